@@ -1,0 +1,159 @@
+"""The physical problem: domain, material, supports, loads and cracks.
+
+A :class:`Scene` holds no arrays of a discretisation. Prescribed values are
+floats, Python callables ``x (n, 2) -> (n,)`` / ``(n, 2)``, or a named
+analytic :class:`~efgkit.analytic.Field` evaluated with the scene's material.
+Scene files (TOML) map onto these classes one to one (:mod:`efgkit.io`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from .analytic import Field
+from .crack import Crack
+from .geometry import Domain
+from .material import Elastic
+
+__all__ = ["Scene", "Support", "Traction", "evaluate_vector", "evaluate_component"]
+
+Where = str | Callable  # edge name or x (n, 2) -> bool mask (n,)
+
+
+def _check_value(what: str, v, vector: bool) -> None:
+    if v is None or callable(v) or isinstance(v, Field):
+        return
+    arr = np.asarray(v, dtype=float)
+    if arr.shape != ((2,) if vector else ()):
+        raise ValueError(f"{what} must be {'a 2-vector' if vector else 'a float'}, got {v!r}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{what} must be finite, got {v!r}")
+
+
+@dataclass(frozen=True)
+class Support:
+    """Prescribed displacement components on an edge.
+
+    Parameters
+    ----------
+    edge : str or callable
+        Edge name, or ``x (n, 2) -> bool (n,)`` selecting boundary points.
+    ux, uy : float, callable ``x (n, 2) -> (n,)``, Field, or None
+        Prescribed component (None: free). A :class:`Field` prescribes its
+        displacement component.
+    """
+
+    edge: Where
+    ux: float | Callable | Field | None = None
+    uy: float | Callable | Field | None = None
+
+    def __post_init__(self):
+        if self.ux is None and self.uy is None:
+            raise ValueError(f"support on {self.edge!r} prescribes nothing: give ux and/or uy")
+        _check_value(f"support on {self.edge!r}: ux", self.ux, vector=False)
+        _check_value(f"support on {self.edge!r}: uy", self.uy, vector=False)
+
+
+@dataclass(frozen=True)
+class Traction:
+    """Surface traction ``t (n, 2)`` on an edge (force per length).
+
+    ``t`` is a 2-vector, a callable ``x (n, 2) -> (n, 2)``, or a :class:`Field`
+    (whose traction ``sigma . n`` on the edge's outward normal is applied).
+    """
+
+    edge: Where
+    t: tuple[float, float] | Callable | Field
+
+    def __post_init__(self):
+        _check_value(f"traction on {self.edge!r}: t", self.t, vector=True)
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A 2D linear-elastic boundary value problem.
+
+    Examples
+    --------
+    >>> from efgkit import Domain, Elastic
+    >>> s = Scene(Domain.rectangle(0, 0, 1, 1), Elastic(1.0, 0.25),
+    ...           supports=(Support("left", ux=0.0, uy=0.0),),
+    ...           tractions=(Traction("right", (1.0, 0.0)),))
+    >>> s.is_static, len(s.cracks)
+    (True, 0)
+    """
+
+    domain: Domain
+    material: Elastic
+    supports: tuple[Support, ...] = ()
+    tractions: tuple[Traction, ...] = ()
+    body_force: tuple[float, float] | Callable | None = None
+    cracks: tuple[Crack, ...] = ()
+    exact: Field | None = None
+    name: str = "scene"
+    duration: float | None = None  # None: static
+
+    def __post_init__(self):
+        if not isinstance(self.domain, Domain):
+            raise TypeError(f"domain must be a Domain, got {type(self.domain).__name__}")
+        if not isinstance(self.material, Elastic):
+            raise TypeError(f"material must be an Elastic, got {type(self.material).__name__}")
+        for attr in ("supports", "tractions", "cracks"):
+            object.__setattr__(self, attr, tuple(getattr(self, attr)))
+        names = self.domain.edge_names
+        for kind, items in (("support", self.supports), ("traction", self.tractions)):
+            for it in items:
+                if isinstance(it.edge, str) and it.edge not in names:
+                    raise ValueError(
+                        f"{kind} on edge {it.edge!r}: the domain has no such edge; "
+                        f"its edges are {sorted(names)}"
+                    )
+        _check_value("body_force", self.body_force, vector=True)
+        if self.duration is not None and not (math.isfinite(self.duration) and self.duration > 0):
+            raise ValueError(f"duration must be finite and > 0 (or None), got {self.duration!r}")
+
+    @property
+    def is_static(self) -> bool:
+        return self.duration is None
+
+    def with_cracks(self, cracks) -> Scene:
+        """A copy with ``cracks`` replaced."""
+        return replace(self, cracks=tuple(cracks))
+
+
+def evaluate_component(value, x: np.ndarray, comp: int, material: Elastic) -> np.ndarray:
+    """Evaluate a prescribed scalar (float / callable / Field component) at ``x (n, 2)`` -> (n,)."""
+    if isinstance(value, Field):
+        out = value.displacement(x, material)[:, comp]
+    elif callable(value):
+        out = np.asarray(value(x), dtype=float)
+        out = np.broadcast_to(out, (len(x),)).copy()
+    else:
+        out = np.full(len(x), float(value))
+    if not np.all(np.isfinite(out)):
+        raise ValueError("a prescribed displacement evaluated to NaN or inf on the boundary")
+    return out
+
+
+def evaluate_vector(value, x: np.ndarray, normal: np.ndarray, material: Elastic) -> np.ndarray:
+    """Evaluate a traction / body-force value at ``x (n, 2)`` -> (n, 2).
+
+    ``normal (n, 2)`` is the outward unit normal, used by :class:`Field` values.
+    """
+    if isinstance(value, Field):
+        s = value.stress(x, material)
+        out = np.column_stack([s[:, 0] * normal[:, 0] + s[:, 2] * normal[:, 1],
+                               s[:, 2] * normal[:, 0] + s[:, 1] * normal[:, 1]])
+    elif callable(value):
+        out = np.broadcast_to(np.asarray(value(x), dtype=float), (len(x), 2)).copy()
+    else:
+        out = np.broadcast_to(np.asarray(value, dtype=float), (len(x), 2)).copy()
+    if not np.all(np.isfinite(out)):
+        raise ValueError("a traction or body force evaluated to NaN or inf")
+    return out
+
+
