@@ -1,0 +1,180 @@
+"""Compiled (numba) kernels for the hot loops: the MLS shape functions per point.
+
+Each kernel computes exactly what its plain-numpy reference in
+:mod:`efgkit.approx.mls` computes (the tests compare them to 1e-12); it exists
+only because a per-point loop over tiny m x m systems is where numpy spends
+its time on temporaries. Pass ``backend="numpy"`` to :func:`mls_shape` to use
+the reference.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit, prange
+
+__all__ = ["mls_padded", "WEIGHT_IDS", "BASIS_IDS"]
+
+WEIGHT_IDS = {"quartic": 0, "cubic": 1, "gaussian": 2}
+BASIS_IDS = {"linear": 0, "quadratic": 1}
+
+
+@njit(cache=True, inline="always")
+def _weight(wid, s, beta):
+    """(w, w'/s) of seed 003 Eq. (1a-b) and the cubic spline; 0 outside s < 1."""
+    if s >= 1.0:
+        return 0.0, 0.0
+    if wid == 0:
+        return 1.0 + s * s * (-6.0 + s * (8.0 - 3.0 * s)), -12.0 + s * (24.0 - 12.0 * s)
+    if wid == 1:
+        if s <= 0.5:
+            return 2.0 / 3.0 - 4.0 * s * s + 4.0 * s**3, -8.0 + 12.0 * s
+        return 4.0 / 3.0 * (1.0 - s) ** 3, -4.0 * (1.0 - s) ** 2 / s
+    e = np.exp(-((beta * s) ** 2))
+    eb = np.exp(-(beta**2))
+    return (e - eb) / (1.0 - eb), -2.0 * beta**2 * e / (1.0 - eb)
+
+
+@njit(cache=True, inline="always")
+def _basis(bid, xi, eta, p):
+    p[0] = 1.0
+    p[1] = xi
+    p[2] = eta
+    if bid == 1:
+        p[3] = xi * xi
+        p[4] = xi * eta
+        p[5] = eta * eta
+
+
+@njit(cache=True)
+def _invert(A, inv, m):
+    """Gauss-Jordan inverse with partial pivoting; returns rcond (1-norm), 0 if singular."""
+    work = A.copy()
+    for i in range(m):
+        for j in range(m):
+            inv[i, j] = 1.0 if i == j else 0.0
+    for c in range(m):
+        piv = c
+        for r in range(c + 1, m):
+            if abs(work[r, c]) > abs(work[piv, c]):
+                piv = r
+        if work[piv, c] == 0.0:
+            return 0.0
+        if piv != c:
+            for j in range(m):
+                work[c, j], work[piv, j] = work[piv, j], work[c, j]
+                inv[c, j], inv[piv, j] = inv[piv, j], inv[c, j]
+        d = 1.0 / work[c, c]
+        for j in range(m):
+            work[c, j] *= d
+            inv[c, j] *= d
+        for r in range(m):
+            if r != c:
+                f = work[r, c]
+                if f != 0.0:
+                    for j in range(m):
+                        work[r, j] -= f * work[c, j]
+                        inv[r, j] -= f * inv[c, j]
+    na = 0.0
+    ni = 0.0
+    for j in range(m):
+        sa = 0.0
+        si = 0.0
+        for i in range(m):
+            sa += abs(A[i, j])
+            si += abs(inv[i, j])
+        na = max(na, sa)
+        ni = max(ni, si)
+    return 1.0 / (na * ni)
+
+
+@njit(cache=True, parallel=True)
+def mls_padded(x, nx, radius, idx, mask, wid, beta, bid, derivatives):
+    """MLS on padded neighbour arrays (see :func:`efgkit.approx.mls.mls_shape`).
+
+    Parameters
+    ----------
+    x : (n, 2) points; nx : (n_nodes, 2) nodes; radius : (n_nodes,)
+    idx, mask : (n, k) padded neighbours
+    wid, bid : weight and basis ids; beta : Gaussian d_max / alpha
+    derivatives : bool
+
+    Returns
+    -------
+    phi, dphidx, dphidy : (n, k); rcond : (n,)
+    """
+    n, k = idx.shape
+    m = 3 if bid == 0 else 6
+    phi = np.zeros((n, k))
+    gx = np.zeros((n, k))
+    gy = np.zeros((n, k))
+    rcond = np.zeros(n)
+    for q in prange(n):
+        P = np.empty((k, m))
+        w = np.zeros(k)
+        dwx = np.zeros(k)
+        dwy = np.zeros(k)
+        A = np.zeros((m, m))
+        Ax = np.zeros((m, m))
+        Ay = np.zeros((m, m))
+        inv = np.empty((m, m))
+        scale = 0.0
+        for a in range(k):
+            if mask[q, a]:
+                scale = max(scale, radius[idx[q, a]])
+        for a in range(k):
+            if not mask[q, a]:
+                for i in range(m):
+                    P[a, i] = 0.0
+                continue
+            I = idx[q, a]
+            X = nx[I, 0] - x[q, 0]
+            Y = nx[I, 1] - x[q, 1]
+            r = radius[I]
+            wa, ga = _weight(wid, np.sqrt(X * X + Y * Y) / r, beta)
+            w[a] = wa
+            dwx[a] = -ga * X / (r * r)
+            dwy[a] = -ga * Y / (r * r)
+            _basis(bid, X / scale, Y / scale, P[a])
+            for i in range(m):
+                for j in range(m):
+                    pp = P[a, i] * P[a, j]
+                    A[i, j] += wa * pp
+                    Ax[i, j] += dwx[a] * pp
+                    Ay[i, j] += dwy[a] * pp
+        rc = _invert(A, inv, m)
+        rcond[q] = rc
+        if rc == 0.0:
+            continue
+        gam = np.empty(m)
+        for i in range(m):
+            gam[i] = inv[i, 0]
+        gamx = np.zeros(m)
+        gamy = np.zeros(m)
+        if derivatives:
+            rx = np.zeros(m)
+            ry = np.zeros(m)
+            rx[1] = 1.0 / scale
+            ry[2] = 1.0 / scale
+            for i in range(m):
+                for j in range(m):
+                    rx[i] -= Ax[i, j] * gam[j]
+                    ry[i] -= Ay[i, j] * gam[j]
+            for i in range(m):
+                for j in range(m):
+                    gamx[i] += inv[i, j] * rx[j]
+                    gamy[i] += inv[i, j] * ry[j]
+        for a in range(k):
+            if not mask[q, a]:
+                continue
+            pg = 0.0
+            pgx = 0.0
+            pgy = 0.0
+            for i in range(m):
+                pg += P[a, i] * gam[i]
+                pgx += P[a, i] * gamx[i]
+                pgy += P[a, i] * gamy[i]
+            phi[q, a] = w[a] * pg
+            if derivatives:
+                gx[q, a] = dwx[a] * pg + w[a] * pgx
+                gy[q, a] = dwy[a] * pg + w[a] * pgy
+    return phi, gx, gy, rcond

@@ -1,0 +1,311 @@
+"""Moving-least-squares shape functions and first derivatives, as sparse operators.
+
+For a point x with neighbours I (|x - x_I| < d_mI), seed 003 Eqs. (8)-(17):
+
+    A(x) = sum_I w_I p_I p_I^T,        C_I = w_I p_I,
+    A gamma = p,                       phi_I = gamma^T C_I,              (13, 15)
+    A gamma_,i = p_,i - A_,i gamma,    phi_I,i = gamma_,i^T C_I + gamma^T C_I,i   (14, 17)
+
+with p_I = p((x_I - xbar) / s) in the shifted, scaled basis (xbar = x held
+fixed while differentiating, s the largest support radius at x). A is
+factorised once per point and reused for the derivatives (the gamma scheme).
+
+The modified MLS of seed 002 (Eqs. 6-19) adds interpolation conditions at the
+essential-boundary nodes J of the support (Lagrange multipliers). With the
+bordered matrix M = [[A_in, P_b], [P_b^T, 0]] (A_in summed over the other
+nodes only), the same scheme reads
+
+    M [gamma; mu] = [p; 0],   phi_I = gamma^T C_I (I not in J),  phi_J = mu_J,
+    M [gamma; mu]_,i = [p_,i - A_in,i gamma; 0],
+
+which gives phi_I(x_J) = delta_IJ at the boundary nodes (Eq. 19). Only points
+whose support holds such a node take this path.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+from scipy.sparse import csr_array
+
+from ..nodes import NodeCloud
+from ..search import Neighbours, find_neighbours
+from .bases import basis, basis_origin_gradient, basis_size
+from .weights import weight_function
+
+__all__ = ["Shape", "SingularMomentMatrix", "mls_shape", "RCOND_MIN"]
+
+RCOND_MIN = 1e-10  # reciprocal 1-norm condition number below which A counts as singular
+
+
+class SingularMomentMatrix(ValueError):
+    """The moment matrix at a point is singular or too ill-conditioned to trust."""
+
+
+@dataclass(frozen=True, eq=False)
+class Shape:
+    """Shape functions at points: padded arrays, and sparse operators built on demand.
+
+    Attributes
+    ----------
+    neighbours : Neighbours
+        ``idx, mask (n_points, k)``: the functions non-zero at each point.
+    values, ddx, ddy : ndarray, shape (n_points, k)
+        phi_I, d phi_I / dx, d phi_I / dy for the neighbours (0 where masked);
+        ``ddx``/``ddy`` are None when derivatives were not asked for.
+    n_functions : int
+        Number of columns of the operators (nodes, later enrichment functions).
+
+    The operators ``phi``, ``dx``, ``dy`` are csr_array (n_points, n_functions):
+    ``shape.phi @ coeffs`` evaluates a field at the points.
+    """
+
+    neighbours: Neighbours
+    values: np.ndarray
+    ddx: np.ndarray | None
+    ddy: np.ndarray | None
+    n_functions: int
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return (len(self.values), self.n_functions)
+
+    def _op(self, vals: np.ndarray | None) -> csr_array:
+        if vals is None:
+            raise ValueError("derivatives were not computed: call mls_shape(..., derivatives=True)")
+        nb = self.neighbours
+        counts = nb.counts
+        indptr = np.zeros(len(counts) + 1, dtype=np.int64)
+        np.cumsum(counts, out=indptr[1:])
+        if counts.min(initial=0) == nb.idx.shape[1]:  # every row full: no masking needed
+            data, cols = vals.ravel(), nb.idx.ravel()
+        else:
+            data, cols = vals[nb.mask], nb.idx[nb.mask]
+        return csr_array((data, cols, indptr), shape=self.shape)
+
+    @cached_property
+    def phi(self) -> csr_array:
+        return self._op(self.values)
+
+    @cached_property
+    def dx(self) -> csr_array:
+        return self._op(self.ddx)
+
+    @cached_property
+    def dy(self) -> csr_array:
+        return self._op(self.ddy)
+
+
+def _inv_rcond(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Inverses of stacked matrices ``A (n, m, m)`` and reciprocal 1-norm condition numbers.
+
+    3 x 3 (the linear basis) by the adjugate formula, others by LAPACK; a
+    singular matrix gets rcond 0 and an identity placeholder inverse.
+    """
+    n, m, _ = A.shape
+    if m == 3:
+        a, b, c = A[:, 0, 0], A[:, 0, 1], A[:, 0, 2]
+        d, e, f = A[:, 1, 0], A[:, 1, 1], A[:, 1, 2]
+        g, h, i = A[:, 2, 0], A[:, 2, 1], A[:, 2, 2]
+        adj = np.stack([e * i - f * h, c * h - b * i, b * f - c * e,
+                        f * g - d * i, a * i - c * g, c * d - a * f,
+                        d * h - e * g, b * g - a * h, a * e - b * d], axis=-1).reshape(n, 3, 3)
+        det = a * adj[:, 0, 0] + b * adj[:, 1, 0] + c * adj[:, 2, 0]
+        ok = np.abs(det) > 0
+        inv = adj / np.where(ok, det, 1.0)[:, None, None]
+    else:
+        det = np.linalg.det(A)
+        ok = np.isfinite(det) & (np.abs(det) > 0)
+        safe = np.where(ok[:, None, None], A, np.eye(m))
+        inv = np.linalg.inv(safe)
+    norm = np.abs(A).sum(axis=1).max(axis=1)
+    norm_inv = np.abs(inv).sum(axis=1).max(axis=1)
+    rcond = np.where(ok, 1.0 / np.maximum(norm * norm_inv, 1e-300), 0.0)
+    rcond = np.where(np.isfinite(rcond), rcond, 0.0)
+    return np.where(ok[:, None, None], inv, np.eye(m)), rcond
+
+
+def _raise_singular(x, rows, rcond, counts, offset, remedy=""):
+    k = int(rows[np.argmin(rcond[rows])])
+    raise SingularMomentMatrix(
+        f"moment matrix is singular or ill-conditioned (rcond = {rcond[k]:.2e}) at point "
+        f"{offset + k} {np.round(x[k], 12).tolist()} with {int(counts[k])} neighbour(s); "
+        f"{len(rows)} point(s) affected. Remedy: enlarge the support (d_max) or add nodes "
+        f"near this point{remedy}."
+    )
+
+
+def _mls_chunk(x, nodes, nb, wfun, bname, derivatives, interp, offset):
+    """Values and derivatives on padded arrays (n, k) for one chunk of points."""
+    m = basis_size(bname)
+    X = nodes.x[nb.idx] - x[:, None, :]  # x_I - x, (n, k, 2)
+    r = nodes.radius[nb.idx]
+    s = np.sqrt((X**2).sum(-1)) / r
+    w, g = wfun(s)
+    w = np.where(nb.mask, w, 0.0)
+    scale = np.where(nb.mask, r, 0.0).max(axis=1)  # (n,)
+    P = basis(bname, X / scale[:, None, None])  # (n, k, m)
+    gp = basis_origin_gradient(bname) / scale[:, None, None]  # (n, 2, m)
+    if derivatives:  # dw/dx = g(s) (x - x_I) / r^2
+        dw = np.where(nb.mask[..., None], -g[..., None] * X / (r**2)[..., None], 0.0)
+    is_b = interp[nb.idx] & nb.mask if interp is not None else None
+    if is_b is not None and is_b.any():
+        return _modified_chunk(x, nb, w, dw if derivatives else None, P, gp, is_b, m, offset)
+    Pw = P * w[..., None]
+    A = np.einsum("nki,nkj->nij", Pw, P)
+    inv, rcond = _inv_rcond(A)
+    bad = np.flatnonzero(rcond < RCOND_MIN)
+    if len(bad):
+        _raise_singular(x, bad, rcond, nb.counts, offset)
+    gamma = inv[:, :, 0]  # A^-1 p(0), p(0) = e_1
+    Pg = np.einsum("nki,ni->nk", P, gamma)
+    phi = w * Pg
+    if not derivatives:
+        return phi, None, None
+    out = []
+    for c in range(2):
+        A_c = np.einsum("nk,nki,nkj->nij", dw[..., c], P, P)
+        rhs = gp[:, c, :] - np.einsum("nij,nj->ni", A_c, gamma)
+        gamma_c = np.einsum("nij,nj->ni", inv, rhs)
+        out.append(dw[..., c] * Pg + w * np.einsum("nki,ni->nk", P, gamma_c))
+    return phi, out[0], out[1]
+
+
+def _modified_chunk(x, nb, w, dw, P, gp, is_b, m, offset):
+    """Seed 002 modified MLS through the bordered system (see module docstring)."""
+    n, k = w.shape
+    w_in = np.where(is_b, 0.0, w)
+    A = np.einsum("nk,nki,nkj->nij", w_in, P, P)
+    M = np.zeros((n, m + k, m + k))
+    M[:, :m, :m] = A
+    Pb = np.where(is_b[..., None], P, 0.0)  # (n, k, m): columns p(x_J) of boundary nodes
+    M[:, :m, m:] = Pb.transpose(0, 2, 1)
+    M[:, m:, :m] = Pb
+    free = ~is_b  # unused multiplier slots: identity rows decouple them
+    M[:, m:, m:] = free[:, :, None] * np.eye(k)
+    # Singular values give the condition number directly (the bordered M is
+    # indefinite, and these points are few: those near essential boundaries).
+    sv = np.linalg.svd(M, compute_uv=False)
+    rcond = np.where(np.isfinite(sv).all(axis=1), sv[:, -1] / np.maximum(sv[:, 0], 1e-300), 0.0)
+    bad = np.flatnonzero(~(rcond >= RCOND_MIN))
+    if len(bad):
+        _raise_singular(x, bad, rcond, nb.counts, offset,
+                        remedy=(" - with the modified MLS no support may hold more essential-"
+                                "boundary nodes than the basis can interpolate (at most 2 collinear "
+                                "for a linear basis, 3 for quadratic): reduce d_max, or use another "
+                                "bc method"))
+    inv = np.linalg.inv(M)
+    gam = inv[:, :, 0]  # [gamma; mu]
+    gamma, mu = gam[:, :m], gam[:, m:]
+    Pg = np.einsum("nki,ni->nk", P, gamma)
+    phi = np.where(is_b, mu, w_in * Pg)
+    if dw is None:
+        return phi, None, None
+    out = []
+    for c in range(2):
+        dw_in = np.where(is_b, 0.0, dw[..., c])
+        A_c = np.einsum("nk,nki,nkj->nij", dw_in, P, P)
+        rhs = np.zeros((n, m + k))
+        rhs[:, :m] = gp[:, c, :] - np.einsum("nij,nj->ni", A_c, gamma)
+        gam_c = np.einsum("nij,nj->ni", inv, rhs)
+        val = dw_in * Pg + w_in * np.einsum("nki,ni->nk", P, gam_c[:, :m])
+        out.append(np.where(is_b, gam_c[:, m:], val))
+    return phi, out[0], out[1]
+
+
+def mls_shape(x: np.ndarray, nodes: NodeCloud, weight: str = "quartic", basis: str = "linear",
+              *, d_max: float = 2.0, alpha: float = 0.5, derivatives: bool = True,
+              neighbours: Neighbours | None = None, interpolate: np.ndarray | None = None,
+              backend: str = "numba", chunk: int = 32768) -> Shape:
+    """MLS shape functions of ``nodes`` at points ``x (n_points, 2)``.
+
+    Parameters
+    ----------
+    x : ndarray, shape (n_points, 2)
+    nodes : NodeCloud
+    weight, basis : str
+        See :class:`efgkit.EFG`.
+    d_max, alpha : float
+        Gaussian weight parameters (beta = d_max / alpha).
+    derivatives : bool
+        Also form d/dx and d/dy (skip for evaluation-only uses).
+    neighbours : Neighbours, optional
+        Precomputed neighbour lists (found if not given).
+    interpolate : ndarray (n_nodes,) bool, optional
+        Nodes with the Kronecker-delta property (seed 002 modified MLS).
+    backend : {"numba", "numpy"}
+        Compiled kernel (:mod:`efgkit.approx.kernels`) or the plain-numpy
+        reference; they agree to 1e-12. Points of the modified MLS always use
+        the numpy path.
+
+    Returns
+    -------
+    Shape
+        Padded values and derivatives; ``phi``, ``dx``, ``dy`` csr_array (n_points, n_nodes).
+
+    Raises
+    ------
+    SingularMomentMatrix
+        Naming the point, its coordinates, neighbour count and the remedy.
+
+    Examples
+    --------
+    >>> from efgkit import Domain, EFG
+    >>> from efgkit.nodes import generate_nodes
+    >>> cloud = generate_nodes(Domain.rectangle(0, 0, 1, 1), EFG(spacing=0.25))
+    >>> sh = mls_shape(np.array([[0.3, 0.7]]), cloud)
+    >>> u = 2 * cloud.x[:, 0] - cloud.x[:, 1]          # linear field: reproduced exactly
+    >>> round(float((sh.phi @ u)[0]), 12), round(float((sh.dx @ u)[0]), 12)
+    (-0.1, 2.0)
+    """
+    x = np.atleast_2d(np.asarray(x, dtype=float))
+    if x.ndim != 2 or x.shape[1] != 2:
+        raise ValueError(f"x must have shape (n_points, 2), got {x.shape}")
+    nb = find_neighbours(x, nodes) if neighbours is None else neighbours
+    lonely = np.flatnonzero(nb.counts < basis_size(basis))
+    if len(lonely):
+        k = lonely[0]
+        raise SingularMomentMatrix(
+            f"point {k} {x[k].tolist()} has {int(nb.counts[k])} neighbour(s), fewer than the "
+            f"{basis_size(basis)} terms of the {basis} basis ({len(lonely)} point(s) affected). "
+            "Remedy: enlarge the support (d_max) or add nodes near this point."
+        )
+    if backend not in ("numba", "numpy"):
+        raise ValueError(f"backend must be 'numba' or 'numpy', got {backend!r}")
+    wfun = weight_function(weight, d_max, alpha)
+    plain = None
+    if interpolate is not None:  # points whose support holds an interpolating node
+        special = (interpolate[nb.idx] & nb.mask).any(axis=1)
+        plain = np.flatnonzero(~special) if special.any() else None
+    if backend == "numba" and (plain is None or len(plain)):
+        from .kernels import BASIS_IDS, WEIGHT_IDS, mls_padded
+
+        sub = nb if plain is None else nb.subset(plain)
+        xs = x if plain is None else x[plain]
+        res = mls_padded(xs, nodes.x, nodes.radius, sub.idx, sub.mask, WEIGHT_IDS[weight],
+                         d_max / alpha, BASIS_IDS[basis], derivatives)
+        bad = np.flatnonzero(~(res[3] >= RCOND_MIN))
+        if len(bad):
+            _raise_singular(xs, bad, res[3], sub.counts, 0)
+        if plain is None:
+            vals = list(res[:3])
+            todo = np.arange(0)
+        else:
+            vals = [np.zeros(nb.idx.shape) for _ in range(3)]
+            for v, r in zip(vals, res[:3]):
+                v[plain] = r
+            todo = np.flatnonzero(special)
+    else:
+        vals = [np.zeros(nb.idx.shape) for _ in range(3)]
+        todo = np.arange(len(x))
+    for s in range(0, len(todo), chunk):
+        sl = todo[s:s + chunk]
+        res = _mls_chunk(x[sl], nodes, nb.subset(sl), wfun, basis, derivatives, interpolate, s)
+        for v, r in zip(vals, res):
+            if r is not None:
+                v[sl] = r
+    if not derivatives:
+        vals[1] = vals[2] = None
+    return Shape(nb, vals[0], vals[1], vals[2], nodes.n)
