@@ -15,7 +15,7 @@ __all__ = ["EFG", "Zone", "WEIGHTS", "BASES", "BC_METHODS", "QUADRATURES", "SOLV
 
 WEIGHTS = ("quartic", "gaussian", "cubic")
 BASES = ("linear", "quadratic")
-BC_METHODS = ("penalty", "lagrange", "nitsche", "modified_mls")
+BC_METHODS = ("penalty", "lagrange", "variational", "modified_mls")
 QUADRATURES = ("cells", "triangles")
 SOLVERS = ("auto", "direct", "amg")
 
@@ -90,10 +90,10 @@ class EFG:
         The same in refinement zones.
     cell_size : float, optional
         Background cell size (default: ``spacing``).
-    bc : {"penalty", "lagrange", "nitsche", "modified_mls"}
+    bc : {"penalty", "lagrange", "variational", "modified_mls"}
         Essential boundary conditions: penalty (seed 003 Eq. 28), Lagrange
         multipliers (Eq. 26), modified variational principle (Eq. 27,
-        ``"nitsche"``) or the modified MLS of seed 002 (Eqs. 6-19).
+        ``"variational"``, Nitsche-stabilised) or the modified MLS of seed 002 (Eqs. 6-19).
     penalty : float, optional
         Penalty factor beta in units of E / h (default 1e4 * E / h: see
         docs/theory.md for the error it leaves).

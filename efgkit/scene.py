@@ -124,6 +124,10 @@ class Scene:
         """A copy with ``cracks`` replaced."""
         return replace(self, cracks=tuple(cracks))
 
+    def with_supports(self, supports) -> Scene:
+        """A copy with ``supports`` replaced."""
+        return replace(self, supports=tuple(supports))
+
 
 def evaluate_component(value, x: np.ndarray, comp: int, material: Elastic) -> np.ndarray:
     """Evaluate a prescribed scalar (float / callable / Field component) at ``x (n, 2)`` -> (n,)."""

@@ -264,7 +264,10 @@ def mls_shape(x: np.ndarray, nodes: NodeCloud, weight: str = "quartic", basis: s
     if x.ndim != 2 or x.shape[1] != 2:
         raise ValueError(f"x must have shape (n_points, 2), got {x.shape}")
     nb = find_neighbours(x, nodes) if neighbours is None else neighbours
-    lonely = np.flatnonzero(nb.counts < basis_size(basis))
+    lonely = nb.counts < basis_size(basis)
+    if interpolate is not None:  # the bordered system's own check covers these points
+        lonely &= ~(interpolate[nb.idx] & nb.mask).any(axis=1)
+    lonely = np.flatnonzero(lonely)
     if len(lonely):
         k = lonely[0]
         raise SingularMomentMatrix(

@@ -1,0 +1,96 @@
+"""The result of a solve: MLS coefficients and the fields they define."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .discretize import Discretization
+
+__all__ = ["Solution"]
+
+
+@dataclass(frozen=True, eq=False)
+class Solution:
+    """Scene + discretisation + MLS coefficients.
+
+    The coefficients ``coeffs (2 n_nodes,)`` (node-major, interleaved) are MLS
+    parameters, not nodal displacements: evaluate fields with the methods.
+
+    Attributes
+    ----------
+    disc : Discretization
+    coeffs : ndarray, shape (2 n_functions,)
+    info : dict
+        Solver information (solver, residual, iterations).
+    timings : dict
+        Seconds per stage, discretisation included.
+    """
+
+    disc: Discretization
+    coeffs: np.ndarray
+    info: dict = field(default_factory=dict)
+    timings: dict = field(default_factory=dict)
+
+    @property
+    def scene(self):
+        return self.disc.scene
+
+    @property
+    def method(self):
+        return self.disc.method
+
+    @property
+    def nodes(self):
+        return self.disc.nodes
+
+    def _fields(self, x, derivatives):
+        if x is None:
+            return self.disc.shape
+        return self.disc.shape_at(x, derivatives=derivatives)
+
+    def displacement(self, x=None) -> np.ndarray:
+        """Displacement at points ``x (n, 2)`` (default: the quadrature points), shape (n, 2)."""
+        sh = self._fields(x, derivatives=False)
+        return np.column_stack([sh.phi @ self.coeffs[0::2], sh.phi @ self.coeffs[1::2]])
+
+    def strain(self, x=None) -> np.ndarray:
+        """Strain (xx, yy, xy engineering) at points ``x (n, 2)``, shape (n, 3)."""
+        sh = self._fields(x, derivatives=True)
+        ux, uy = self.coeffs[0::2], self.coeffs[1::2]
+        return np.column_stack([sh.dx @ ux, sh.dy @ uy, sh.dy @ ux + sh.dx @ uy])
+
+    def stress(self, x=None) -> np.ndarray:
+        """Stress (xx, yy, xy) at points ``x (n, 2)``, shape (n, 3)."""
+        return self.strain(x) @ self.scene.material.D.T
+
+    def strain_energy(self) -> float:
+        """U = 1/2 int eps : sigma dOmega over the domain quadrature."""
+        eps = self.strain()
+        return 0.5 * float(np.sum(self.disc.points.w * np.einsum("ni,ij,nj->n", eps,
+                                                                  self.scene.material.D, eps)))
+
+    def errors(self, exact=None) -> dict:
+        """Relative L2 displacement and energy-norm errors against an exact field.
+
+        Energy norm as seed 003 Eq. (36): [1/2 int (sigma - sigma^h):(eps - eps^h)]^(1/2),
+        divided by the same norm of the exact field. ``exact`` defaults to ``scene.exact``.
+
+        Returns
+        -------
+        dict with ``l2`` and ``energy`` (relative) and the absolute ``energy_abs``.
+        """
+        exact = self.scene.exact if exact is None else exact
+        if exact is None:
+            raise ValueError("no exact field: give errors(exact=Field) or Scene(exact=...)")
+        mat = self.scene.material
+        x, w = self.disc.points.x, self.disc.points.w
+        u, ue = self.displacement(), exact.displacement(x, mat)
+        eps, se = self.strain(), exact.stress(x, mat)
+        ee = se @ mat.compliance().T
+        de = ee - eps
+        e_abs = np.sqrt(0.5 * np.sum(w * np.einsum("ni,ij,nj->n", de, mat.D, de)))
+        e_ref = np.sqrt(0.5 * np.sum(w * np.einsum("ni,ni->n", se, ee)))
+        l2 = np.sqrt(np.sum(w * ((u - ue) ** 2).sum(1)) / np.sum(w * (ue**2).sum(1)))
+        return {"l2": float(l2), "energy": float(e_abs / e_ref), "energy_abs": float(e_abs)}
