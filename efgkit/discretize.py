@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -129,6 +130,12 @@ def discretize(scene: Scene, method: EFG) -> Discretization:
     nodes = generate_nodes(scene.domain, method)
     interpolate = None
     if method.bc == "modified_mls":
+        warnings.warn(
+            "bc='modified_mls' (seed 002): the interpolation constraints switch on where a point "
+            "enters an essential-boundary node's support, so the shape functions are "
+            "discontinuous there and the EFG weak form is not consistent (patch-test error "
+            "~1e-1, docs/theory.md). Prefer 'lagrange' or 'variational' for EFG.",
+            UserWarning, stacklevel=2)
         interpolate = essential_nodes(scene, nodes, method.spacing)
         nodes = _interpolating_supports(nodes, interpolate)
     timings["nodes"] = time.perf_counter() - t0

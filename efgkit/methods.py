@@ -95,8 +95,10 @@ class EFG:
         multipliers (Eq. 26), modified variational principle (Eq. 27,
         ``"variational"``, Nitsche-stabilised) or the modified MLS of seed 002 (Eqs. 6-19).
     penalty : float, optional
-        Penalty factor beta in units of E / h (default 1e4 * E / h: see
-        docs/theory.md for the error it leaves).
+        bc="penalty": beta in units of E / h (default 1e8; the method's
+        consistency error is ~ E / (beta h), roundoff grows beyond ~1e9).
+        bc="variational": the Nitsche stabilisation in the same units
+        (default 1e2).
     solver : {"auto", "direct", "amg"}
         SuperLU or pyamg smoothed aggregation + CG; "auto" picks by size.
     """

@@ -25,7 +25,7 @@ from .solution import Solution
 
 __all__ = ["solve", "loads", "essential_conditions", "DEFAULT_PENALTY", "DEFAULT_STABILISATION"]
 
-DEFAULT_PENALTY = 1e7  # beta h / E for the penalty method (error ~ E / (beta h))
+DEFAULT_PENALTY = 1e8  # beta h / E of the penalty method: error ~ E / (beta h); roundoff from ~1e9
 DEFAULT_STABILISATION = 1e2  # beta h / E of the Nitsche term in the variational method
 
 
@@ -130,7 +130,7 @@ def solve(scene: Scene, method: EFG, disc: Discretization | None = None) -> Solu
     ...               supports=(Support("left", ux=0.0), Support("bottom", uy=0.0)),
     ...               tractions=(Traction("right", (1.0, 0.0)),))
     >>> sol = solve(scene, EFG(spacing=0.25, bc="lagrange"))
-    >>> round(float(sol.displacement([[2.0, 0.5]])[0, 0]), 9)   # sigma L / E = 0.002
+    >>> round(float(sol.displacement([[2.0, 0.5]])[0, 0]), 6)   # sigma L / E = 0.002
     0.002
     """
     t_all = time.perf_counter()
