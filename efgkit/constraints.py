@@ -7,7 +7,7 @@ quadrature points, the shape functions there, the prescribed components
 and values.
 
 * penalty, seed 003 Eq. (28): ``(K + beta G^T S G) c = f + beta G^T S ubar``;
-  inconsistent by O(E / (beta h)), so beta defaults to ``1e8 E / h``.
+  inconsistent by O(E / (beta h)) and locking for very large beta; default ``1e3 E / h``.
 * Lagrange multipliers, Eq. (26): multipliers piecewise linear along each
   constrained edge (hats on the boundary segments), saddle-point system.
 * modified variational principle, Eq. (27): the multiplier replaced by the

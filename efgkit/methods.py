@@ -95,8 +95,9 @@ class EFG:
         multipliers (Eq. 26), modified variational principle (Eq. 27,
         ``"variational"``, Nitsche-stabilised) or the modified MLS of seed 002 (Eqs. 6-19).
     penalty : float, optional
-        bc="penalty": beta in units of E / h (default 1e8; the method's
-        consistency error is ~ E / (beta h), roundoff grows beyond ~1e9).
+        bc="penalty": beta in units of E / h (default 1e3). The consistency
+        error falls like E / (beta h) but large beta over-constrains the
+        boundary (locking): see docs/theory.md.
         bc="variational": the Nitsche stabilisation in the same units
         (default 1e2).
     solver : {"auto", "direct", "amg"}
