@@ -2,17 +2,23 @@
 
 from importlib.metadata import PackageNotFoundError, version
 
+from .analytic import Field
 from .crack import Crack
+from .discretize import discretize
 from .geometry import Domain, Loop
 from .material import Elastic
 from .methods import EFG, Zone
 from .scene import Scene, Support, Traction
+from .scenefile import load_scene, load_study
+from .solution import Solution
+from .static import solve
 
 try:
     __version__ = version("efgkit")
 except PackageNotFoundError:  # pragma: no cover - running from a source tree
     __version__ = "0.0.0"
 
-__all__ = sorted(
-    ["Crack", "Domain", "EFG", "Elastic", "Loop", "Scene", "Support", "Traction", "Zone"]
-)
+__all__ = [
+    "Crack", "Domain", "EFG", "Elastic", "Field", "Loop", "Scene", "Solution", "Support",
+    "Traction", "Zone", "__version__", "discretize", "load_scene", "load_study", "solve",
+]

@@ -258,14 +258,14 @@ class Domain:
                 raise TypeError(f"{name} must be a Loop, got {type(loop).__name__}")
             p, _ = loop.polyline()
             scale = float(np.ptp(p, axis=0).max()) if len(p) else 0.0
-            if len(p) < 3 or loop.area <= 1e-12 * max(scale, 1e-300) ** 2:
-                raise ValueError(f"{name} loop is empty or degenerate (zero area)")
-            bad = loop.self_intersections()
+            bad = loop.self_intersections() if len(p) >= 3 else []
             if len(bad):
                 raise ValueError(
                     f"{name} loop is self-intersecting (near {p[bad[0, 0]].tolist()}); "
                     "give vertices in boundary order without crossings"
                 )
+            if len(p) < 3 or loop.area <= 1e-12 * max(scale, 1e-300) ** 2:
+                raise ValueError(f"{name} loop is empty or degenerate (zero area)")
         if outer.signed_area < 0:
             outer = outer.reversed()
         holes = tuple(h.reversed() if h.signed_area > 0 else h for h in holes)

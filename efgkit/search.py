@@ -15,6 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit, prange
 
 from .nodes import NodeCloud
 
@@ -99,8 +100,32 @@ class BoxGrid:
         return np.where(ok, ij[:, 1] * nx + ij[:, 0], -1)
 
 
+@njit(cache=True, parallel=True)
+def _filter_candidates(x, box, table, nx, radius):
+    """Compiled twin of the numpy path: padded valid neighbours (n, k_box) and counts."""
+    n, kb = len(x), table.shape[1]
+    idx = np.zeros((n, kb), np.int64)
+    count = np.zeros(n, np.int64)
+    for q in prange(n):
+        b = box[q]
+        if b < 0:
+            continue
+        c = 0
+        for a in range(kb):
+            I = table[b, a]
+            if I < 0:
+                break
+            dx = nx[I, 0] - x[q, 0]
+            dy = nx[I, 1] - x[q, 1]
+            if dx * dx + dy * dy < radius[I] * radius[I]:
+                idx[q, c] = I
+                c += 1
+        count[q] = c
+    return idx, count
+
+
 def find_neighbours(x: np.ndarray, nodes: NodeCloud, boxes: BoxGrid | None = None,
-                    chunk: int = 131072) -> Neighbours:
+                    chunk: int = 131072, backend: str = "numba") -> Neighbours:
     """Nodes I with |x - x_I| < d_mI for every point of ``x (n_points, 2)``.
 
     Examples
@@ -114,6 +139,13 @@ def find_neighbours(x: np.ndarray, nodes: NodeCloud, boxes: BoxGrid | None = Non
     x = np.asarray(x, dtype=float)
     boxes = BoxGrid.build(nodes) if boxes is None else boxes
     box = boxes.box_of(x)
+    if backend == "numba":
+        idx, count = _filter_candidates(x, box, boxes.table, nodes.x, nodes.radius)
+        kmax = int(count.max()) if len(x) else 0
+        idx = np.ascontiguousarray(idx[:, :kmax])
+        return Neighbours(idx, np.arange(kmax)[None, :] < count[:, None])
+    if backend != "numpy":
+        raise ValueError(f"backend must be 'numba' or 'numpy', got {backend!r}")
     parts = []
     for s in range(0, len(x), chunk):
         xs, bs = x[s:s + chunk], box[s:s + chunk]

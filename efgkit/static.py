@@ -12,10 +12,22 @@ import numpy as np
 
 from .approx.mls import mls_shape
 from .assemble import load_vector, stiffness
-from .constraints import (Dirichlet, eliminate, lagrange, modified_variational, penalty,
-                          rigid_body_modes)
-from .discretize import (Discretization, boundary_segments_for, discretize, edge_rule,
-                         essential_nodes, support_edges)
+from .constraints import (
+    Dirichlet,
+    eliminate,
+    lagrange,
+    modified_variational,
+    penalty,
+    rigid_body_modes,
+)
+from .discretize import (
+    Discretization,
+    boundary_segments_for,
+    discretize,
+    edge_rule,
+    essential_nodes,
+    support_edges,
+)
 from .linalg import solve as linear_solve
 from .methods import EFG
 from .quadrature import boundary_points

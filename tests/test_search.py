@@ -32,3 +32,13 @@ def test_points_outside_all_supports_have_no_neighbours():
     nodes = generate_nodes(Domain.rectangle(0, 0, 1, 1), EFG(spacing=0.25))
     nb = find_neighbours(np.array([[10.0, 10.0], [0.5, 0.5]]), nodes)
     assert nb.counts.tolist()[0] == 0 and nb.counts[1] > 0
+
+
+@pytest.mark.parametrize("perturb", [0.0, 0.4])
+def test_compiled_and_numpy_paths_agree(perturb):
+    nodes = generate_nodes(Domain.rectangle(0, 0, 1, 1), EFG(spacing=0.05, perturb=perturb))
+    x = np.random.default_rng(1).uniform(-0.1, 1.1, (3000, 2))
+    a = find_neighbours(x, nodes)
+    b = find_neighbours(x, nodes, backend="numpy")
+    np.testing.assert_array_equal(a.mask, b.mask)
+    np.testing.assert_array_equal(np.where(a.mask, a.idx, -1), np.where(b.mask, b.idx, -1))

@@ -40,7 +40,7 @@ __all__ = ["Shape", "SingularMomentMatrix", "mls_shape", "RCOND_MIN"]
 RCOND_MIN = 1e-10  # reciprocal 1-norm condition number below which A counts as singular
 
 
-class SingularMomentMatrix(ValueError):
+class SingularMomentMatrix(ValueError):  # noqa: N818 (names the condition, like LinAlgError)
     """The moment matrix at a point is singular or too ill-conditioned to trust."""
 
 
@@ -297,7 +297,7 @@ def mls_shape(x: np.ndarray, nodes: NodeCloud, weight: str = "quartic", basis: s
             todo = np.arange(0)
         else:
             vals = [np.zeros(nb.idx.shape) for _ in range(3)]
-            for v, r in zip(vals, res[:3]):
+            for v, r in zip(vals, res[:3], strict=True):
                 v[plain] = r
             todo = np.flatnonzero(special)
     else:
@@ -306,7 +306,7 @@ def mls_shape(x: np.ndarray, nodes: NodeCloud, weight: str = "quartic", basis: s
     for s in range(0, len(todo), chunk):
         sl = todo[s:s + chunk]
         res = _mls_chunk(x[sl], nodes, nb.subset(sl), wfun, basis, derivatives, interpolate, s)
-        for v, r in zip(vals, res):
+        for v, r in zip(vals, res, strict=True):
             if r is not None:
                 v[sl] = r
     if not derivatives:
