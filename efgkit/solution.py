@@ -48,6 +48,17 @@ class Solution:
     def _fields(self, x, derivatives):
         if x is None:
             return self.disc.shape
+        x = np.atleast_2d(np.asarray(x, dtype=float))
+        if x.ndim != 2 or x.shape[1] != 2 or not np.all(np.isfinite(x)):
+            raise ValueError(f"x must be finite points of shape (n, 2), got shape {x.shape}")
+        dom = self.scene.domain
+        outside = ~dom.contains(x, tol=1e-9 * dom.size)
+        if outside.any():
+            k = int(np.argmax(outside))
+            raise ValueError(
+                f"{int(outside.sum())} point(s) lie outside the body, e.g. x[{k}] = "
+                f"{x[k].tolist()}: fields are defined only in the material (MLS would extrapolate)"
+            )
         return self.disc.shape_at(x, derivatives=derivatives)
 
     def displacement(self, x=None) -> np.ndarray:

@@ -135,3 +135,14 @@ def test_cracked_scene_is_refused_not_silently_wrong():
                   cracks=(Crack(np.array([[0.0, 0.5], [0.5, 0.5]]), (False, True)),))
     with pytest.raises(NotImplementedError, match="no crack rules yet"):
         solve(scene, EFG(spacing=0.25))
+
+
+def test_fields_outside_the_body_are_refused():
+    scene = Scene(Domain.rectangle(0, 0, 1, 1, holes=[Loop.circle([0.5, 0.5], 0.2)]), MAT,
+                  supports=(Support("left", ux=0.0, uy=0.0),))
+    sol = solve(scene, EFG(spacing=0.1))
+    with pytest.raises(ValueError, match=r"1 point\(s\) lie outside the body, e.g. x\[1\]"):
+        sol.stress([[0.1, 0.1], [0.5, 0.5]])
+    with pytest.raises(ValueError, match="finite points of shape"):
+        sol.displacement([[np.nan, 0.0]])
+    assert np.all(np.isfinite(sol.stress([[0.0, 0.0], [1.0, 1.0], [0.5, 0.3]])))
