@@ -181,7 +181,8 @@ def solve(scene: Scene, method: EFG, disc: Discretization | None = None) -> Solu
             system = modified_variational(K, f, bc, mat.D, beta, disc.nodes.x)
     timings["constraints"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    z, info = linear_solve(system, m.solver, near_nullspace=rigid_body_modes(disc.nodes.x))
+    z, info = linear_solve(system, m.solver, near_nullspace=rigid_body_modes(disc.nodes.x),
+                           discretization=disc, stiffness=K)
     timings["solve"] = time.perf_counter() - t0
     timings["total"] = time.perf_counter() - t_all + sum(disc.timings.values())
     return Solution(disc, system.coefficients(z), info, timings)
