@@ -11,4 +11,4 @@ def test_core_benchmark_quick_runs():
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     res = mod.main(["--quick", "--repeat", "1", "--no-write"])
-    assert res["mls"]["n_points"] > 0 and res["end_to_end"]["solver"]["residual"] < 1e-8
+    assert res["mls"][0]["n_points"] > 0 and res["end_to_end"]["solver"]["residual"] < 1e-8

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-__all__ = ["mls_padded", "WEIGHT_IDS", "BASIS_IDS"]
+__all__ = ["mls_padded", "mls_linear", "WEIGHT_IDS", "BASIS_IDS"]
 
 WEIGHT_IDS = {"quartic": 0, "cubic": 1, "gaussian": 2}
 BASIS_IDS = {"linear": 0, "quadratic": 1}
@@ -177,4 +177,121 @@ def mls_padded(x, nx, radius, idx, mask, wid, beta, bid, derivatives):
             if derivatives:
                 gx[q, a] = dwx[a] * pg + w[a] * pgx
                 gy[q, a] = dwy[a] * pg + w[a] * pgy
+    return phi, gx, gy, rcond
+
+
+@njit(cache=True, parallel=True)
+def mls_linear(x, nx, radius, idx, mask, wid, beta, derivatives):
+    """:func:`mls_padded` for the linear basis, written out for speed.
+
+    The moment matrices are symmetric 3 x 3, so only their six distinct sums
+    are accumulated (for A, A_,x and A_,y), they are inverted by the adjugate,
+    and the per-neighbour quantities are recomputed in the output pass
+    instead of being stored (no allocation per point).
+    """
+    n, k = idx.shape
+    phi = np.zeros((n, k))
+    gx = np.zeros((n, k))
+    gy = np.zeros((n, k))
+    rcond = np.zeros(n)
+    for q in prange(n):
+        xq = x[q, 0]
+        yq = x[q, 1]
+        scale = 0.0
+        for a in range(k):
+            if mask[q, a]:
+                scale = max(scale, radius[idx[q, a]])
+        inv_s = 1.0 / scale
+        # Sums of w p p^T with p = (1, X, Y): s0, sx, sy, sxx, sxy, syy (and for dw/dx, dw/dy).
+        a0 = a1 = a2 = a11 = a12 = a22 = 0.0
+        b0 = b1 = b2 = b11 = b12 = b22 = 0.0
+        c0 = c1 = c2 = c11 = c12 = c22 = 0.0
+        for a in range(k):
+            if not mask[q, a]:
+                continue
+            I = idx[q, a]
+            dx = nx[I, 0] - xq
+            dy = nx[I, 1] - yq
+            r = radius[I]
+            wa, ga = _weight(wid, np.sqrt(dx * dx + dy * dy) / r, beta)
+            X = dx * inv_s
+            Y = dy * inv_s
+            a0 += wa
+            a1 += wa * X
+            a2 += wa * Y
+            a11 += wa * X * X
+            a12 += wa * X * Y
+            a22 += wa * Y * Y
+            if derivatives:
+                f = -ga / (r * r)
+                wx = f * dx
+                wy = f * dy
+                b0 += wx
+                b1 += wx * X
+                b2 += wx * Y
+                b11 += wx * X * X
+                b12 += wx * X * Y
+                b22 += wx * Y * Y
+                c0 += wy
+                c1 += wy * X
+                c2 += wy * Y
+                c11 += wy * X * X
+                c12 += wy * X * Y
+                c22 += wy * Y * Y
+        # Adjugate of the symmetric A = [[a0, a1, a2], [a1, a11, a12], [a2, a12, a22]].
+        i00 = a11 * a22 - a12 * a12
+        i01 = a2 * a12 - a1 * a22
+        i02 = a1 * a12 - a2 * a11
+        i11 = a0 * a22 - a2 * a2
+        i12 = a1 * a2 - a0 * a12
+        i22 = a0 * a11 - a1 * a1
+        det = a0 * i00 + a1 * i01 + a2 * i02
+        if det == 0.0 or not np.isfinite(det):
+            continue
+        d = 1.0 / det
+        i00 *= d
+        i01 *= d
+        i02 *= d
+        i11 *= d
+        i12 *= d
+        i22 *= d
+        na = max(abs(a0) + abs(a1) + abs(a2), abs(a1) + abs(a11) + abs(a12),
+                 abs(a2) + abs(a12) + abs(a22))
+        ni = max(abs(i00) + abs(i01) + abs(i02), abs(i01) + abs(i11) + abs(i12),
+                 abs(i02) + abs(i12) + abs(i22))
+        rcond[q] = 1.0 / (na * ni)
+        g0 = i00  # gamma = A^-1 e_1
+        g1 = i01
+        g2 = i02
+        hx0 = hx1 = hx2 = hy0 = hy1 = hy2 = 0.0
+        if derivatives:
+            # gamma_,x = A^-1 (p_,x - A_,x gamma), p_,x = (0, 1/s, 0); likewise y.
+            rx0 = -(b0 * g0 + b1 * g1 + b2 * g2)
+            rx1 = inv_s - (b1 * g0 + b11 * g1 + b12 * g2)
+            rx2 = -(b2 * g0 + b12 * g1 + b22 * g2)
+            ry0 = -(c0 * g0 + c1 * g1 + c2 * g2)
+            ry1 = -(c1 * g0 + c11 * g1 + c12 * g2)
+            ry2 = inv_s - (c2 * g0 + c12 * g1 + c22 * g2)
+            hx0 = i00 * rx0 + i01 * rx1 + i02 * rx2
+            hx1 = i01 * rx0 + i11 * rx1 + i12 * rx2
+            hx2 = i02 * rx0 + i12 * rx1 + i22 * rx2
+            hy0 = i00 * ry0 + i01 * ry1 + i02 * ry2
+            hy1 = i01 * ry0 + i11 * ry1 + i12 * ry2
+            hy2 = i02 * ry0 + i12 * ry1 + i22 * ry2
+        for a in range(k):
+            if not mask[q, a]:
+                continue
+            I = idx[q, a]
+            dx = nx[I, 0] - xq
+            dy = nx[I, 1] - yq
+            r = radius[I]
+            wa, ga = _weight(wid, np.sqrt(dx * dx + dy * dy) / r, beta)
+            X = dx * inv_s
+            Y = dy * inv_s
+            pg = g0 + g1 * X + g2 * Y
+            phi[q, a] = wa * pg
+            if derivatives:
+                f = -ga / (r * r)
+                gx[q, a] = f * dx * pg + wa * (hx0 + hx1 * X + hx2 * Y)
+                gy[q, a] = f * dy * pg + wa * (hy0 + hy1 * X + hy2 * Y)
     return phi, gx, gy, rcond

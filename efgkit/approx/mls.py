@@ -283,12 +283,16 @@ def mls_shape(x: np.ndarray, nodes: NodeCloud, weight: str = "quartic", basis: s
         special = (interpolate[nb.idx] & nb.mask).any(axis=1)
         plain = np.flatnonzero(~special) if special.any() else None
     if backend == "numba" and (plain is None or len(plain)):
-        from .kernels import BASIS_IDS, WEIGHT_IDS, mls_padded
+        from .kernels import BASIS_IDS, WEIGHT_IDS, mls_linear, mls_padded
 
         sub = nb if plain is None else nb.subset(plain)
         xs = x if plain is None else x[plain]
-        res = mls_padded(xs, nodes.x, nodes.radius, sub.idx, sub.mask, WEIGHT_IDS[weight],
-                         d_max / alpha, BASIS_IDS[basis], derivatives)
+        if basis == "linear":
+            res = mls_linear(xs, nodes.x, nodes.radius, sub.idx, sub.mask, WEIGHT_IDS[weight],
+                             d_max / alpha, derivatives)
+        else:
+            res = mls_padded(xs, nodes.x, nodes.radius, sub.idx, sub.mask, WEIGHT_IDS[weight],
+                             d_max / alpha, BASIS_IDS[basis], derivatives)
         bad = np.flatnonzero(~(res[3] >= RCOND_MIN))
         if len(bad):
             _raise_singular(xs, bad, res[3], sub.counts, 0)
