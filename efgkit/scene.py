@@ -112,6 +112,7 @@ class Scene:
                         f"{kind} on edge {it.edge!r}: the domain has no such edge; "
                         f"its edges are {sorted(names)}"
                     )
+        _check_cracks(self.cracks, self.domain)
         _check_value("body_force", self.body_force, vector=True)
         if self.duration is not None and not (math.isfinite(self.duration) and self.duration > 0):
             raise ValueError(f"duration must be finite and > 0 (or None), got {self.duration!r}")
@@ -120,6 +121,11 @@ class Scene:
     def is_static(self) -> bool:
         return self.duration is None
 
+    @property
+    def tips(self) -> tuple:
+        """Every crack tip of the scene (:class:`~efgkit.crack.Tip`), crack by crack."""
+        return tuple(t for c in self.cracks for t in c.tip_list)
+
     def with_cracks(self, cracks) -> Scene:
         """A copy with ``cracks`` replaced."""
         return replace(self, cracks=tuple(cracks))
@@ -127,6 +133,59 @@ class Scene:
     def with_supports(self, supports) -> Scene:
         """A copy with ``supports`` replaced."""
         return replace(self, supports=tuple(supports))
+
+
+def _check_cracks(cracks, domain: Domain) -> None:
+    """Cracks lie in the body: tips inside, mouths on the boundary, no crossings."""
+    from .geometry import segments_intersect
+
+    names = set()
+    tol = 1e-9 * domain.size
+    bnd = domain.boundary_segments()
+    for c in cracks:
+        if not isinstance(c, Crack):
+            raise TypeError(f"cracks must hold Crack objects, got {type(c).__name__}")
+        if c.name in names:
+            raise ValueError(f"two cracks are named {c.name!r}: crack names must be unique")
+        names.add(c.name)
+        v = c.vertices
+        dist = domain.distance_to_boundary(v)
+        inside = domain.contains(v)
+        for k, (d, ins) in enumerate(zip(dist, inside, strict=True)):
+            end = 0 if k == 0 else 1 if k == len(v) - 1 else None
+            if end is not None and not c.tips[end]:
+                if d > tol:
+                    raise ValueError(
+                        f"crack {c.name!r}: vertex {k} {v[k].tolist()} is a mouth (tips[{end}] is "
+                        f"False) but lies {d:.3g} from the domain boundary; put it on the "
+                        "boundary or make it a tip")
+                continue
+            what = "tip" if end is not None else "vertex"
+            if not ins or d <= tol:
+                where = "on the domain boundary" if d <= tol else "outside the domain"
+                raise ValueError(
+                    f"crack {c.name!r}: {what} {k} {v[k].tolist()} lies {where}; cracks must run "
+                    "inside the body (a crack along the boundary is just boundary)")
+        # No segment may cross the boundary; a mouth touches it at its vertex only, so the
+        # segment at a mouth is tested without its last 1e-7 of length.
+        last = len(v) - 2
+        for k, (a, b) in enumerate(c.segments):
+            a = a + 1e-7 * (b - a) if k == 0 and not c.tips[0] else a
+            b = b + 1e-7 * (a - b) if k == last and not c.tips[1] else b
+            hit = segments_intersect(np.broadcast_to(a, (len(bnd), 2)), np.broadcast_to(b, (len(bnd), 2)),
+                                     bnd[:, 0], bnd[:, 1])
+            if hit.any():
+                raise ValueError(
+                    f"crack {c.name!r}: segment {k} (vertices {k}-{k + 1}) crosses the domain boundary "
+                    f"near {bnd[np.argmax(hit), 0].tolist()}; cracks must run inside the body")
+    segs = [(c.name, k, s) for c in cracks for k, s in enumerate(c.segments)]
+    for i in range(len(segs)):
+        for j in range(i + 1, len(segs)):
+            (n1, k1, s1), (n2, k2, s2) = segs[i], segs[j]
+            if n1 != n2 and segments_intersect(s1[None, 0], s1[None, 1], s2[None, 0], s2[None, 1])[0]:
+                raise ValueError(
+                    f"cracks {n1!r} (segment {k1}) and {n2!r} (segment {k2}) intersect; "
+                    "crossing or branching cracks are not supported")
 
 
 def evaluate_component(value, x: np.ndarray, comp: int, material: Elastic) -> np.ndarray:

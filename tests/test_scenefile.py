@@ -114,10 +114,10 @@ SCENE_KEYS = {
                         't = { field = "kirsch", a = 0.2, centre = [1.0, 0.5] }\n',
                         lambda s: s.tractions[0].t,
                         Field.named("kirsch", a=0.2, centre=(1.0, 0.5))),
-    "cracks": (BASE + '[[cracks]]\nvertices = [[0.5, 0.5], [1.0, 0.5], [1.2, 0.6]]\n'
+    "cracks": (BASE + '[[cracks]]\nvertices = [[0.5, 0.5], [1.0, 0.5], [2.0, 0.6]]\n'
                'tips = [true, false]\nname = "c1"\n',
                lambda s: (s.cracks[0].vertices.tolist(), s.cracks[0].tips, s.cracks[0].name),
-               ([[0.5, 0.5], [1.0, 0.5], [1.2, 0.6]], (True, False), "c1")),
+               ([[0.5, 0.5], [1.0, 0.5], [2.0, 0.6]], (True, False), "c1")),
     "cracks defaults": (BASE + "[[cracks]]\nvertices = [[0.5, 0.5], [1.0, 0.5]]\n",
                         lambda s: (s.cracks[0].tips, s.cracks[0].name), ((True, True), "crack")),
     "exact": (BASE + '[exact]\nfield = "cantilever"\nL = 2.0\nD = 1.0\n',
