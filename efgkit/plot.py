@@ -12,7 +12,7 @@ import numpy as np
 from .geometry import Domain
 from .io import sample_grid, von_mises
 
-__all__ = ["COMPONENTS", "plot_nodes", "plot_stress"]
+__all__ = ["COMPONENTS", "plot_domain_dependence", "plot_nodes", "plot_stress"]
 
 COMPONENTS = ("von_mises", "xx", "yy", "xy")
 _LABELS = {"von_mises": "von Mises stress", "xx": r"$\sigma_{xx}$", "yy": r"$\sigma_{yy}$",
@@ -162,4 +162,54 @@ def plot_stress(solution, component: str = "von_mises", ax=None, n_target: int =
     _outline(ax, scene.domain, scene.cracks)
     ax.set_aspect("equal")
     ax.set_title(f"{scene.name}: {_LABELS[component]}")
+    return fig
+
+
+def plot_domain_dependence(results, ax=None):
+    """K_I and K_II against the J-domain radius, one pair of lines per tip.
+
+    Parameters
+    ----------
+    results : TipResult or sequence of TipResult
+        From :func:`efgkit.fracture.integrals.tip_result`; each domain's
+        values are drawn as markers joined by lines (K_I solid, K_II dashed)
+        and the mean over the domains as a dotted level.
+    ax : matplotlib Axes, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> from efgkit.crack import Tip
+    >>> from efgkit.fracture.integrals import SIF, TipResult
+    >>> doms = tuple(SIF(1.0, 1.0 + 0.01 * k, 0.0, 0.0, 1.0, 100, 0.1 * (k + 1)) for k in range(3))
+    >>> res = TipResult(Tip(np.zeros(2), 0.0, "c", 1), 1.01, 0.0, 1.0, 0.0, 0.02, doms)
+    >>> fig = plot_domain_dependence(res)
+    >>> len(fig.axes[0].lines)
+    4
+    """
+    items = [results] if hasattr(results, "domains") else list(results)
+    if not items or not all(hasattr(r, "domains") and hasattr(r, "tip") for r in items):
+        raise TypeError("results must be a TipResult or a non-empty sequence of TipResult")
+    if ax is None:
+        import matplotlib.pyplot as plt
+
+        fig, ax = plt.subplots(figsize=(6.0, 4.0))
+    else:
+        fig = ax.figure
+    for k, res in enumerate(items):
+        colour = f"C{k % 10}"
+        radius = [d.radius for d in res.domains]
+        ax.plot(radius, [d.KI for d in res.domains], "o-", color=colour,
+                label=f"{res.tip.id}: $K_I$ (spread {res.spread:.2g})")
+        ax.plot(radius, [d.KII for d in res.domains], "s--", color=colour,
+                label=f"{res.tip.id}: $K_{{II}}$")
+        ax.axhline(res.KI, color=colour, ls=":", lw=0.8)
+        ax.axhline(res.KII, color=colour, ls=":", lw=0.8)
+    ax.set_xlabel("J-domain radius")
+    ax.set_ylabel("stress intensity factor")
+    ax.set_title("domain dependence of K")
+    ax.legend(fontsize="small")
     return fig

@@ -5,8 +5,12 @@ The tip frame has ``x1`` along the crack, pointing ahead of the tip, and
 ``theta`` in ``[-pi, pi]`` with the crack faces at ``theta = +-pi``. These are
 the leading (singular) terms of Williams' expansion; they are both the exact
 field of the singular patch test and the auxiliary fields of interaction
-integrals. :func:`tip_polar`, :func:`rotate_vectors` and :func:`rotate_voigt`
-move between the global and the tip frame.
+integrals. :func:`tip_polar`, :func:`rotate_vectors`, :func:`rotate_voigt` and
+:func:`rotate_gradient` move between the global and the tip frame.
+
+Also here: the displacement gradient of the Williams fields, the point-force
+(Flamant) field at a crack tip (the auxiliary field of the T-stress interaction
+integral) and the exact Westergaard field of a Griffith crack (a test field).
 """
 
 from __future__ import annotations
@@ -14,10 +18,16 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = [
+    "griffith_field",
+    "point_force_displacement",
+    "point_force_gradient",
+    "point_force_stress",
+    "rotate_gradient",
     "rotate_vectors",
     "rotate_voigt",
     "tip_polar",
     "williams_displacement",
+    "williams_gradient",
     "williams_stress",
 ]
 
@@ -199,3 +209,253 @@ def rotate_voigt(sig: np.ndarray, angle: float) -> np.ndarray:
         s * s * a + c * c * b + 2 * c * s * t,
         c * s * (a - b) + (c * c - s * s) * t,
     ])
+
+
+def rotate_gradient(g: np.ndarray, angle: float) -> np.ndarray:
+    """Rotate second-order tensors ``g (n, 2, 2)`` by ``angle``: ``R g R^T``.
+
+    ``R = [[cos, -sin], [sin, cos]]``: a displacement gradient
+    ``g[:, i, j] = du_i/dx_j`` in a tip frame at ``angle`` maps to global
+    coordinates; ``rotate_gradient(g, -angle)`` maps back.
+
+    Examples
+    --------
+    >>> g = np.array([[[1.0, 0.0], [0.0, 0.0]]])   # du1/dx1 = 1 in the tip frame
+    >>> rotate_gradient(g, np.pi / 2).round(12).tolist()
+    [[[0.0, 0.0], [0.0, 1.0]]]
+    """
+    c, s = np.cos(angle), np.sin(angle)
+    R = np.array([[c, -s], [s, c]])
+    return np.einsum("ik,nkl,jl->nij", R, np.asarray(g, dtype=float), R)
+
+
+def _polar_derivatives(dfdr, dfdt, r, theta):
+    """``(df/dx1, df/dx2)`` from ``df/dr`` and ``df/dtheta / r`` (chain rule)."""
+    c, s = np.cos(theta), np.sin(theta)
+    return c * dfdr - s * dfdt, s * dfdr + c * dfdt
+
+
+def williams_gradient(r, theta, KI: float, KII: float, mu: float, kappa: float) -> np.ndarray:
+    """Displacement gradient of :func:`williams_displacement`, tip frame, shape (n, 2, 2).
+
+    ``g[:, i, j] = du_i/dx_j``. With ``u_i = sqrt(r) U_i(theta)``,
+    ``du_i/dr = u_i / (2 r)`` and ``du_i/dtheta = sqrt(r) U_i'(theta)``, and
+    ``d/dx1 = cos(theta) d/dr - sin(theta)/r d/dtheta``,
+    ``d/dx2 = sin(theta) d/dr + cos(theta)/r d/dtheta``. The gradient is
+    ``O(r^{-1/2})``: singular at the tip (``r = 0`` is refused). Its symmetric
+    part is the compliance times :func:`williams_stress` (tested).
+
+    Parameters
+    ----------
+    r, theta : array_like, shape (n,)
+        Polar coordinates about the tip, ``r > 0``, ``theta`` in ``[-pi, pi]``.
+    KI, KII, mu, kappa : float
+        As in :func:`williams_displacement`.
+
+    Returns
+    -------
+    ndarray, shape (n, 2, 2)
+
+    Examples
+    --------
+    >>> g = williams_gradient([1.0], [0.0], KI=1.0, KII=0.0, mu=1.0, kappa=1.8)
+    >>> round(float(g[0, 0, 0]), 10)   # du1/dx1 = (kappa - 1) / (4 mu sqrt(2 pi r)) at theta = 0
+    0.0797884561
+    """
+    r, theta = _polar_args(r, theta)
+    if np.any(r == 0):
+        i = int(np.argmax(r == 0))
+        raise ValueError(f"point {i} is at the crack tip (r = 0), where the Williams displacement "
+                         "gradient is singular; evaluate it away from the tip")
+    a = 1.0 / (2.0 * mu * np.sqrt(2.0 * np.pi * r))  # sqrt(r / 2 pi) / (2 mu) / r
+    c, s = np.cos(theta / 2), np.sin(theta / 2)
+    # U(theta) and dU/dtheta of u = sqrt(r / 2 pi) / (2 mu) U, mode I then mode II
+    U1 = KI * c * (kappa - 1 + 2 * s**2) + KII * s * (kappa + 1 + 2 * c**2)
+    U2 = KI * s * (kappa + 1 - 2 * c**2) - KII * c * (kappa - 1 - 2 * s**2)
+    dU1 = (KI * (-0.5 * s * (kappa - 1 + 2 * s**2) + 2 * s * c**2)
+           + KII * (0.5 * c * (kappa + 1 + 2 * c**2) - 2 * c * s**2))
+    dU2 = (KI * (0.5 * c * (kappa + 1 - 2 * c**2) + 2 * c * s**2)
+           - KII * (-0.5 * s * (kappa - 1 - 2 * s**2) - 2 * s * c**2))
+    g = np.empty((len(r), 2, 2))
+    g[:, 0, 0], g[:, 0, 1] = _polar_derivatives(a * U1 / 2, a * dU1, r, theta)
+    g[:, 1, 0], g[:, 1, 1] = _polar_derivatives(a * U2 / 2, a * dU2, r, theta)
+    return g
+
+
+def point_force_stress(r, theta, f: float) -> np.ndarray:
+    """Stress of a point force ``f`` along x1 at the tip of a semi-infinite crack, (n, 3).
+
+    .. math::
+
+        \\sigma_{11} = -\\frac{f\\cos^3\\theta}{\\pi r},\\quad
+        \\sigma_{22} = -\\frac{f\\cos\\theta\\sin^2\\theta}{\\pi r},\\quad
+        \\sigma_{12} = -\\frac{f\\cos^2\\theta\\sin\\theta}{\\pi r}
+
+    The Flamant radial field ``sigma_rr = -f cos(theta) / (pi r)``,
+    ``sigma_tt = sigma_rt = 0``: the faces ``theta = +-pi`` are traction
+    free and the stress on any circle balances ``f``. It is the auxiliary field
+    of the T-stress interaction integral (Kim and Paulino, CMAME 192, 2003;
+    Nakamura and Parks, IJSS 29, 1992). Same in plane strain and
+    plane stress.
+
+    Examples
+    --------
+    >>> s = point_force_stress([1.0, 1.0], [0.0, np.pi], 1.0)
+    >>> (s * np.pi).round(12)[:, 0].tolist()   # sigma_11 = -f cos^3(theta) / (pi r)
+    [-1.0, 1.0]
+    """
+    r, theta = _polar_args(r, theta)
+    if np.any(r == 0):
+        i = int(np.argmax(r == 0))
+        raise ValueError(f"point {i} is at the point force (r = 0), where its stress is singular")
+    c, s = np.cos(theta), np.sin(theta)
+    srr = -f * c / (np.pi * r)
+    return np.column_stack([srr * c * c, srr * s * s, srr * c * s])
+
+
+def point_force_displacement(r, theta, f: float, mu: float, kappa: float,
+                             d: float = 1.0) -> np.ndarray:
+    """Displacement of :func:`point_force_stress`, tip frame, shape (n, 2).
+
+    .. math::
+
+        u_1 = -\\frac{f(\\kappa + 1)}{8\\pi\\mu}\\ln\\frac{r}{d}
+              - \\frac{f}{4\\pi\\mu}\\sin^2\\theta,\\qquad
+        u_2 = -\\frac{f(\\kappa - 1)}{8\\pi\\mu}\\theta
+              + \\frac{f}{4\\pi\\mu}\\sin\\theta\\cos\\theta
+
+    Kim and Paulino (CMAME 192, 2003); its strain is the compliance times
+    :func:`point_force_stress` (tested). ``d`` fixes the rigid translation
+    (``u_1 = 0`` at ``r = d, theta = 0``). ``u_2`` jumps across the faces.
+
+    Examples
+    --------
+    >>> u = point_force_displacement([1.0], [0.0], f=1.0, mu=1.0, kappa=1.8)
+    >>> bool(np.allclose(u, 0.0))
+    True
+    """
+    r, theta = _polar_args(r, theta)
+    if np.any(r == 0):
+        i = int(np.argmax(r == 0))
+        raise ValueError(f"point {i} is at the point force (r = 0), where its displacement "
+                         "is singular")
+    c, s = np.cos(theta), np.sin(theta)
+    k = f / (8 * np.pi * mu)
+    return np.column_stack([-k * (kappa + 1) * np.log(r / d) - 2 * k * s * s,
+                            -k * (kappa - 1) * theta + 2 * k * s * c])
+
+
+def point_force_gradient(r, theta, f: float, mu: float, kappa: float) -> np.ndarray:
+    """Displacement gradient of :func:`point_force_displacement`, shape (n, 2, 2).
+
+    ``g[:, i, j] = du_i/dx_j`` in the tip frame, ``O(1/r)``; with
+    ``k = f / (8 pi mu r)``:
+    ``u1,1 = k (4 sin^2 cos - (kappa + 1) cos)``,
+    ``u1,2 = -k ((kappa + 1) sin + 4 sin cos^2)``,
+    ``u2,1 = k ((kappa - 1) sin - 2 cos(2 theta) sin)``,
+    ``u2,2 = k (2 cos(2 theta) cos - (kappa - 1) cos)``.
+
+    Examples
+    --------
+    >>> g = point_force_gradient([1.0], [0.0], f=1.0, mu=1.0, kappa=1.8)
+    >>> round(float(g[0, 0, 0] * 8 * np.pi), 12)   # -(kappa + 1) at theta = 0, r = 1
+    -2.8
+    """
+    r, theta = _polar_args(r, theta)
+    if np.any(r == 0):
+        i = int(np.argmax(r == 0))
+        raise ValueError(f"point {i} is at the point force (r = 0), where its displacement "
+                         "gradient is singular")
+    c, s, c2 = np.cos(theta), np.sin(theta), np.cos(2 * theta)
+    k = f / (8 * np.pi * mu * r)
+    g = np.empty((len(r), 2, 2))
+    g[:, 0, 0] = k * (4 * s * s * c - (kappa + 1) * c)
+    g[:, 0, 1] = -k * ((kappa + 1) * s + 4 * s * c * c)
+    g[:, 1, 0] = k * ((kappa - 1) * s - 2 * c2 * s)
+    g[:, 1, 1] = k * (2 * c2 * c - (kappa - 1) * c)
+    return g
+
+
+def griffith_field(x: np.ndarray, a: float, p: float, mu: float, kappa: float,
+                   loading: str = "pressure") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Exact field of a Griffith crack ``|x| <= a, y = 0`` in an infinite plate.
+
+    Westergaard's solution for remote biaxial tension ``p``, with
+    ``Z(z) = p z / sqrt(z^2 - a^2)``, ``Z' = -p a^2 / (z^2 - a^2)^{3/2}``,
+    ``Zbar = p sqrt(z^2 - a^2)`` (Westergaard, J. Appl. Mech. 6, 1939; Anderson,
+    *Fracture Mechanics*, Ch. 2 appendix). Gradient, stress and the
+    compliance agree to rounding (tested):
+
+    .. math::
+
+        \\sigma_{xx} = \\Re Z - y\\Im Z',\\quad \\sigma_{yy} = \\Re Z + y\\Im Z',\\quad
+        \\sigma_{xy} = -y\\Re Z', \\\\
+        2\\mu u_x = \\tfrac{\\kappa - 1}{2}\\Re\\bar Z - y\\Im Z,\\quad
+        2\\mu u_y = \\tfrac{\\kappa + 1}{2}\\Im\\bar Z - y\\Re Z.
+
+    ``loading="remote"``: this field (faces traction free, ``K_I = p sqrt(pi a)``,
+    ``T = 0``). ``loading="pressure"``: this field minus the uniform biaxial
+    stress ``p`` (displacement ``(kappa - 1) p / (4 mu) x``): the faces carry a
+    pressure ``p``, the plate is unloaded at infinity, ``K_I = p sqrt(pi a)`` and
+    ``T = -p``. The branch of ``sqrt(z^2 - a^2)`` is cut along the crack; a
+    point on the crack line takes the upper face for ``y = +0.0`` and the lower
+    one for ``y = -0.0``.
+
+    Parameters
+    ----------
+    x : ndarray (n, 2)
+        Points, not at the tips ``(+-a, 0)``.
+    a, p : float
+        Half crack length (> 0) and remote tension / face pressure.
+    mu, kappa : float
+        Shear modulus and Kolosov constant.
+    loading : {"pressure", "remote"}
+
+    Returns
+    -------
+    u : ndarray (n, 2)
+    grad_u : ndarray (n, 2, 2)
+        ``grad_u[:, i, j] = du_i/dx_j``.
+    stress : ndarray (n, 3)
+        Voigt (xx, yy, xy).
+
+    Examples
+    --------
+    >>> u, g, s = griffith_field(np.array([[0.0, 0.0], [0.0, -0.0]]), 1.0, 1.0, 1.0, 2.0)
+    >>> float(u[0, 1] - u[1, 1])   # opening (kappa + 1) p a / (2 mu) at the centre
+    1.5
+    >>> s[:, 1].round(12).tolist()   # the faces carry the pressure: sigma_yy = -p
+    [-1.0, -1.0]
+    """
+    x = np.asarray(x, dtype=float)
+    if x.ndim != 2 or x.shape[1] != 2 or not np.all(np.isfinite(x)):
+        raise ValueError(f"x must be finite points of shape (n, 2), got shape {x.shape}")
+    if loading not in ("pressure", "remote"):
+        raise ValueError(f"loading must be 'pressure' or 'remote', got {loading!r}")
+    if not a > 0:
+        raise ValueError(f"the half crack length a must be > 0, got {a!r}")
+    z = np.empty(len(x), dtype=complex)
+    z.real, z.imag = x[:, 0], x[:, 1]  # keeps the sign of a zero y: the face
+    at_tip = np.abs(z * z - a * a) <= 1e-14 * a * a
+    if np.any(at_tip):
+        i = int(np.argmax(at_tip))
+        raise ValueError(f"point {i} {x[i].tolist()} is at a crack tip, where the field is singular")
+    root = np.sqrt(z - a) * np.sqrt(z + a)  # cut along [-a, a] only
+    Z, dZ, Zb = p * z / root, -p * a * a / root**3, p * root
+    y = x[:, 1]
+    stress = np.column_stack([Z.real - y * dZ.imag, Z.real + y * dZ.imag, -y * dZ.real])
+    u = np.column_stack([(kappa - 1) / 2 * Zb.real - y * Z.imag,
+                         (kappa + 1) / 2 * Zb.imag - y * Z.real]) / (2 * mu)
+    g = np.empty((len(x), 2, 2))
+    g[:, 0, 0] = (kappa - 1) / 2 * Z.real - y * dZ.imag
+    g[:, 0, 1] = -(kappa + 1) / 2 * Z.imag - y * dZ.real
+    g[:, 1, 0] = (kappa + 1) / 2 * Z.imag - y * dZ.real
+    g[:, 1, 1] = (kappa - 1) / 2 * Z.real + y * dZ.imag
+    g /= 2 * mu
+    if loading == "pressure":
+        e = (kappa - 1) * p / (4 * mu)  # uniform biaxial strain of the subtracted field
+        stress[:, :2] -= p
+        u -= e * x
+        g[:, 0, 0] -= e
+        g[:, 1, 1] -= e
+    return u, g, stress
