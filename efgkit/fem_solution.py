@@ -1,0 +1,393 @@
+"""The result of a finite-element solve (:func:`efgkit.fem.solve_fem`) and its fields.
+
+Mirrors :class:`efgkit.solution.Solution` (``displacement``, ``strain``,
+``stress``, ``strain_energy``, ``errors``) and adds what fracture
+post-processing needs: quadrature-point fields for domain integrals, the
+crack-mouth opening and support reactions; plus VTU output and figures.
+
+Points are located in the mesh with a trapezoid-map finder on the straight
+triangles, then mapped to the reference triangle by Newton's method on the
+element's (possibly isoparametric) map. A point on a crack line (within
+1e-12 of the domain size) is evaluated on the crack's *left* face, the
+:mod:`efgkit.crack` convention (left of a segment ``a -> b``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["FEMSolution"]
+
+
+def _solve2(J, r):
+    """Solve the 2x2 systems ``J[:, :, n] dX[:, n] = r[:, n]``; 0 where J is singular."""
+    det = J[0, 0] * J[1, 1] - J[0, 1] * J[1, 0]
+    ok = det != 0
+    d = np.where(ok, det, 1.0)
+    out = np.array([(J[1, 1] * r[0] - J[0, 1] * r[1]) / d, (J[0, 0] * r[1] - J[1, 0] * r[0]) / d])
+    return np.where(ok, out, 0.0), ok
+
+
+@dataclass(frozen=True, eq=False)
+class FEMSolution:
+    """Scene + FEM + mesh + nodal displacements.
+
+    Attributes
+    ----------
+    scene : Scene
+    fem : FEM
+    mesh : TriMesh
+        The linear triangle mesh (cracks opened).
+    basis : skfem.CellBasis
+        Vector P1/P2 basis; DOFs are node-major interleaved ``2 i + c``.
+    fmap : ndarray (n_facets,)
+        scikit-fem facet of each ``mesh.facets`` row.
+    u : ndarray (n_dofs,)
+        Nodal displacements.
+    K : csr_array (n_dofs, n_dofs); f : ndarray (n_dofs,)
+        Stiffness and load before the supports: ``K u - f`` are the reactions.
+    info, timings : dict
+        Solver information (``residual``, ``n_dofs``, ...) and seconds per stage.
+
+    Examples
+    --------
+    Seed 003 Sect. 5.6.1: the mode-I Williams field prescribed around an edge crack.
+
+    >>> from efgkit import Crack, Domain, Elastic, Field, Scene, Support
+    >>> from efgkit.fem import FEM, solve_fem
+    >>> W = Field.named("williams", KI=1.0)
+    >>> scene = Scene(Domain.rectangle(-1, -1, 1, 1), Elastic(1.0, 0.3),
+    ...               supports=tuple(Support(e, ux=W, uy=W) for e in ("left", "bottom", "right", "top")),
+    ...               cracks=(Crack([[-1.0, 0.0], [0.0, 0.0]], tips=(False, True), name="c"),))
+    >>> sol = solve_fem(scene, FEM(0.25, tip_h=0.02, quarter_point=True))
+    >>> round(sol.cmod("c"), 4)  # prescribed at the mouth: the exact jump
+    2.9043
+    >>> x, w, stress, grad_u = sol.quadrature_fields()
+    >>> round(float(w.sum()), 12), grad_u.shape[1:]
+    (4.0, (2, 2))
+    >>> bool(sol.errors(W)["energy"] < 0.1)
+    True
+    """
+
+    scene: object
+    fem: object
+    mesh: object
+    basis: object
+    fmap: np.ndarray
+    u: np.ndarray
+    K: object
+    f: np.ndarray
+    info: dict = field(default_factory=dict)
+    timings: dict = field(default_factory=dict)
+
+    @property
+    def n_dofs(self) -> int:
+        return int(self.basis.N)
+
+    @cached_property
+    def _sbasis(self):
+        return self.basis.with_element(self.basis.elem.elem)
+
+    @cached_property
+    def _finder(self):
+        from matplotlib.tri import Triangulation
+
+        n0 = int(self.mesh.origin.max()) + 1
+        x = self.mesh.x[:n0]
+        return Triangulation(x[:, 0], x[:, 1], self.mesh.origin[self.mesh.t]).get_trifinder()
+
+    @cached_property
+    def _geometry(self):
+        """Element node coordinates of the geometric map, shape (2, n_geometric_nodes, n_elements)."""
+        sk = self.basis.mesh
+        return sk.doflocs[:, sk.dofs.element_dofs]
+
+    def _inverse(self, elems, x):
+        """Reference coordinates (2, n) of points ``x (n, 2)`` in elements ``elems (n,)``."""
+        G = self._geometry[:, :, elems]
+        gel = self.basis.mesh.elem()
+        J0 = np.stack([G[:, 1] - G[:, 0], G[:, 2] - G[:, 0]], axis=1)
+        X, _ = _solve2(J0, x.T - G[:, 0])
+        for _ in range(30):
+            ev = [gel.lbasis(X, i) for i in range(G.shape[1])]
+            F = np.einsum("dgn,gn->dn", G, np.array([e[0] for e in ev]))
+            J = np.einsum("dgn,gen->den", G, np.array([e[1] for e in ev]))
+            dX, _ = _solve2(J, x.T - F)
+            X = X + dX
+            if np.abs(dX).max(initial=0.0) < 1e-14:
+                break
+        return X
+
+    def _locate(self, x):
+        """Elements (n,) and reference coordinates (2, n) of points ``x (n, 2)``."""
+        from scipy.spatial import cKDTree
+
+        dom = self.scene.domain
+        x = np.atleast_2d(np.asarray(x, dtype=float)).copy()
+        if x.ndim != 2 or x.shape[1] != 2 or not np.all(np.isfinite(x)):
+            raise ValueError(f"x must be finite points of shape (n, 2), got shape {x.shape}")
+        outside = ~dom.contains(x, tol=1e-9 * dom.size)
+        if outside.any():
+            k = int(np.argmax(outside))
+            raise ValueError(f"{int(outside.sum())} point(s) lie outside the body, e.g. x[{k}] = "
+                             f"{x[k].tolist()}: fields are defined only in the material")
+        for c in self.scene.cracks:  # points on a crack line go to its left face
+            on = c.distance(x) <= 1e-12 * dom.size
+            if on.any():
+                a, ab = c.segments[:, 0], c.segments[:, 1] - c.segments[:, 0]
+                p = x[on]
+                s = np.clip(np.einsum("nkd,kd->nk", p[:, None] - a, ab) / (ab * ab).sum(1), 0, 1)
+                d = np.linalg.norm(p[:, None] - a - s[..., None] * ab, axis=-1)
+                t = ab[np.argmin(d, axis=1)]
+                t /= np.linalg.norm(t, axis=1)[:, None]
+                x[on] += 1e-10 * dom.size * np.column_stack([-t[:, 1], t[:, 0]])
+        e = np.asarray(self._finder(x[:, 0], x[:, 1]))
+        X = np.zeros((2, len(x)))
+        found = e >= 0
+        X[:, found] = self._inverse(e[found], x[found])
+        bad = ~found | (self._outside(X) > 1e-9)
+        if bad.any():  # curved elements: try the elements with the nearest centroids
+            G = self._geometry
+            k = min(16, G.shape[2])
+            _, cand = cKDTree(G[:, :3].mean(axis=1).T).query(x[bad], k=k)
+            cand = cand.reshape(-1, k)
+            Xc = self._inverse(cand.ravel(), np.repeat(x[bad], k, axis=0)).reshape(2, -1, k)
+            best = np.argmin(self._outside(Xc), axis=1)
+            rows = np.arange(len(cand))
+            e[bad], X[:, bad] = cand[rows, best], Xc[:, rows, best]
+        return e, X
+
+    @staticmethod
+    def _outside(X):
+        return np.maximum.reduce([-X[0], -X[1], X[0] + X[1] - 1, np.zeros(X.shape[1:])])
+
+    def _at(self, elems, X, grad: bool):
+        """Displacement (n, 2) or displacement gradient (n, 2, 2) at reference points."""
+        el = self.basis.elem.elem
+        sd = self.basis.element_dofs[0::2, elems] // 2  # scalar DOFs (n_local, n)
+        ev = [el.lbasis(X, i) for i in range(sd.shape[0])]
+        U = np.stack([self.u[2 * sd], self.u[2 * sd + 1]])  # (2, n_local, n)
+        if not grad:
+            return np.einsum("cin,in->nc", U, np.array([e[0] for e in ev]))
+        G = self._geometry[:, :, elems]
+        gel = self.basis.mesh.elem()
+        J = np.einsum("dgn,gen->den", G, np.array([gel.lbasis(X, i)[1] for i in range(G.shape[1])]))
+        dref = np.array([e[1] for e in ev])  # (n_local, 2, n)
+        det = J[0, 0] * J[1, 1] - J[0, 1] * J[1, 0]
+        if np.any(det == 0):
+            raise ValueError("a point is at a quarter-point crack tip, where the strain is singular")
+        inv = np.array([[J[1, 1], -J[0, 1]], [-J[1, 0], J[0, 0]]]) / det  # inv[e, d] = dX_e / dx_d
+        return np.einsum("cin,ien,edn->ncd", U, dref, inv)
+
+    @cached_property
+    def _qp(self):
+        """Displacement and its gradient at the quadrature points (skfem DiscreteField)."""
+        return self.basis.interpolate(self.u)
+
+    def displacement(self, x=None) -> np.ndarray:
+        """Displacement at points ``x (n, 2)`` (default: the quadrature points), shape (n, 2)."""
+        if x is None:
+            return np.asarray(self._qp).reshape(2, -1).T
+        return self._at(*self._locate(x), grad=False)
+
+    def _grad(self, x):
+        if x is None:
+            return self._qp.grad.reshape(2, 2, -1).transpose(2, 0, 1)
+        return self._at(*self._locate(x), grad=True)
+
+    def strain(self, x=None) -> np.ndarray:
+        """Strain (xx, yy, xy engineering) at points ``x (n, 2)``, shape (n, 3)."""
+        g = self._grad(x)
+        return np.column_stack([g[:, 0, 0], g[:, 1, 1], g[:, 0, 1] + g[:, 1, 0]])
+
+    def stress(self, x=None) -> np.ndarray:
+        """Stress (xx, yy, xy) at points ``x (n, 2)``, shape (n, 3)."""
+        return self.strain(x) @ self.scene.material.D.T
+
+    def quadrature_fields(self):
+        """Fields at every element quadrature point, for domain integrals.
+
+        Returns
+        -------
+        x : ndarray (n, 2)
+            Points (element-major).
+        w : ndarray (n,)
+            Weights (area elements included); ``w.sum()`` is the mesh area.
+        stress : ndarray (n, 3)
+            Voigt (xx, yy, xy).
+        grad_u : ndarray (n, 2, 2)
+            ``grad_u[:, i, j] = d u_i / d x_j``.
+        """
+        x = np.asarray(self.basis.global_coordinates()).reshape(2, -1).T
+        return x, self.basis.dx.ravel(), self.stress(), self._grad(None)
+
+    def strain_energy(self) -> float:
+        """U = 1/2 u . K u (the strain energy of the discrete solution)."""
+        return 0.5 * float(self.u @ (self.K @ self.u))
+
+    def errors(self, exact=None) -> dict:
+        """Relative L2 displacement and energy-norm errors against an exact field.
+
+        As :meth:`efgkit.solution.Solution.errors` (seed 003 Eq. (36)), integrated with a
+        Gauss rule of degree ``2 order + 2`` on every element.
+
+        Returns
+        -------
+        dict with ``l2`` and ``energy`` (relative) and the absolute ``energy_abs``.
+        """
+        from skfem import Basis
+
+        exact = self.scene.exact if exact is None else exact
+        if exact is None:
+            raise ValueError("no exact field: give errors(exact=Field) or Scene(exact=...)")
+        mat = self.scene.material
+        eb = Basis(self.basis.mesh, self.basis.elem, intorder=2 * self.fem.order + 2)
+        q = eb.interpolate(self.u)
+        x, w = np.asarray(eb.global_coordinates()).reshape(2, -1).T, eb.dx.ravel()
+        u, g = np.asarray(q).reshape(2, -1).T, q.grad.reshape(2, 2, -1)
+        eps = np.column_stack([g[0, 0], g[1, 1], g[0, 1] + g[1, 0]])
+        ue, se = exact.displacement(x, mat), exact.stress(x, mat)
+        ee = se @ mat.compliance().T
+        de = ee - eps
+        e_abs = np.sqrt(0.5 * np.sum(w * np.einsum("ni,ij,nj->n", de, mat.D, de)))
+        e_ref = np.sqrt(0.5 * np.sum(w * np.einsum("ni,ni->n", se, ee)))
+        l2 = np.sqrt(np.sum(w * ((u - ue) ** 2).sum(1)) / np.sum(w * (ue**2).sum(1)))
+        return {"l2": float(l2), "energy": float(e_abs / e_ref), "energy_abs": float(e_abs)}
+
+    def cmod(self, crack) -> float:
+        """Crack-mouth opening: ``(u_left - u_right) . n`` at the mouth vertex.
+
+        ``n`` is the unit normal of the mouth segment pointing to the left face, so the
+        opening is positive when the faces separate, whichever way the crack runs.
+
+        Parameters
+        ----------
+        crack : Crack or str
+            A crack of the scene (or its name) with a mouth.
+        """
+        names = [c.name for c in self.scene.cracks]
+        name = getattr(crack, "name", crack)
+        if name not in names:
+            raise ValueError(f"the scene has no crack {name!r}; its cracks are {names}")
+        k = names.index(name)
+        c = self.scene.cracks[k]
+        if all(c.tips):
+            raise ValueError(f"crack {name!r} has no mouth (both ends are tips): a crack-mouth "
+                             "opening needs an edge crack")
+        end = 0 if not c.tips[0] else 1
+        left, right = self.mesh.crack_nodes[k]
+        i, j = (left[0], right[0]) if end == 0 else (left[-1], right[-1])
+        a, b = c.segments[0 if end == 0 else -1]
+        n = np.array([a[1] - b[1], b[0] - a[0]]) / np.linalg.norm(b - a)
+        return float((self.u[2 * i:2 * i + 2] - self.u[2 * j:2 * j + 2]) @ n)
+
+    def reaction(self, edge) -> np.ndarray:
+        """Resultant force ``(2,)`` of ``K u - f`` over the DOFs of an edge.
+
+        For a supported edge this is the force the support applies to the body;
+        free DOFs carry no residual. A corner DOF shared by two edges counts for both.
+
+        Parameters
+        ----------
+        edge : str or callable
+            Edge name, or ``x (n, 2) -> bool (n,)`` selecting boundary DOF locations.
+        """
+        from .fem import _dofs_where
+
+        if isinstance(edge, str) and edge not in self.scene.domain.edge_names:
+            raise ValueError(f"no edge named {edge!r}; the domain's edges are "
+                             f"{sorted(self.scene.domain.edge_names)}")
+        dofs, _ = _dofs_where(edge, self.mesh, self.fmap, self._sbasis)
+        r = self.K @ self.u - self.f
+        return np.array([r[2 * dofs].sum(), r[2 * dofs + 1].sum()])
+
+    def _cell_stress(self) -> np.ndarray:
+        """Stress at the element centroids, shape (n_elements, 3)."""
+        n = self.mesh.n_elements
+        g = self._at(np.arange(n), np.full((2, n), 1 / 3), grad=True)
+        eps = np.column_stack([g[:, 0, 0], g[:, 1, 1], g[:, 0, 1] + g[:, 1, 0]])
+        return eps @ self.scene.material.D.T
+
+    def nodal_stress(self) -> np.ndarray:
+        """Stress (n_nodes, 3) at the mesh vertices, averaged over the elements at each vertex.
+
+        Each element is evaluated a hair (1e-3 of the way to its centroid) inside its
+        vertex, so quarter-point tips give large finite values; crack faces are not averaged
+        across (their nodes are distinct).
+        """
+        sk, n = self.basis.mesh, self.mesh.n_elements
+        acc, cnt = np.zeros((self.mesh.n_nodes, 3)), np.bincount(sk.t.ravel(), minlength=self.mesh.n_nodes)
+        for k, ref in enumerate(([0, 0], [1, 0], [0, 1])):
+            X = np.repeat((0.999 * np.array(ref) + 0.001 / 3)[:, None], n, axis=1)
+            g = self._at(np.arange(n), X, grad=True)
+            eps = np.column_stack([g[:, 0, 0], g[:, 1, 1], g[:, 0, 1] + g[:, 1, 0]])
+            np.add.at(acc, sk.t[k], eps @ self.scene.material.D.T)
+        return acc / np.maximum(cnt, 1)[:, None]
+
+    def write_vtu(self, path) -> Path:
+        """Write the mesh and fields as VTU (``triangle6`` cells for P2, ``triangle`` for P1).
+
+        Point data ``displacement (n, 3)`` (z = 0); cell data ``stress (n_elements, 3)``
+        (xx, yy, xy at the centroids) and ``von_mises``. A ``.vtu`` suffix is added when
+        missing; parent directories are created.
+        """
+        import meshio
+
+        from .io import _pad3, von_mises
+
+        path = Path(path)
+        if path.suffix != ".vtu":
+            path = path.with_name(path.name + ".vtu")
+        sb = self._sbasis
+        cells = sb.element_dofs.T
+        kind = "triangle6" if cells.shape[1] == 6 else "triangle"
+        s = self._cell_stress()
+        path.parent.mkdir(parents=True, exist_ok=True)
+        meshio.write_points_cells(
+            path, _pad3(sb.doflocs.T), [(kind, cells)],
+            point_data={"displacement": _pad3(np.column_stack([self.u[0::2], self.u[1::2]]))},
+            cell_data={"stress": [s], "von_mises": [von_mises(s, self.scene.material)]})
+        return path
+
+    def plot_mesh(self, ax=None):
+        """The mesh (:func:`efgkit.mesh.plot_mesh`); returns the figure."""
+        from .mesh import plot_mesh
+
+        return plot_mesh(self.mesh, ax)
+
+    def plot_stress(self, component: str = "von_mises", ax=None, levels: int = 30):
+        """Filled contours of a vertex-averaged stress component; returns the figure.
+
+        ``component`` is one of :data:`efgkit.plot.COMPONENTS`. The colour range spans the
+        0.5 to 99.5 percentiles of the vertex values, so that the singular values at crack
+        tips do not flatten the picture (values beyond are drawn in the end colours).
+        """
+        from matplotlib.tri import Triangulation
+
+        from .io import von_mises
+        from .plot import _LABELS, COMPONENTS, _axes, _outline
+
+        if component not in COMPONENTS:
+            raise ValueError(f"component must be one of {COMPONENTS}, got {component!r}")
+        if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or levels < 1:
+            raise ValueError(f"levels must be a positive integer, got {levels!r}")
+        s = self.nodal_stress()
+        z = von_mises(s, self.scene.material) if component == "von_mises" else s[
+            :, COMPONENTS.index(component) - 1]
+        lo, hi = (float(v) for v in np.percentile(z, [0.5, 99.5]))  # singular tips clipped
+        scale = max(abs(lo), abs(hi), np.finfo(float).tiny)
+        mid = 0.5 * (lo + hi)
+        bounds = (np.linspace(lo, hi, levels + 1) if hi - lo > 1e-9 * scale else
+                  np.linspace(mid - 1e-3 * scale, mid + 1e-3 * scale, levels + 1))
+        fig, ax = _axes(ax, self.scene.domain, width=8.0)
+        tri = Triangulation(self.mesh.x[:, 0], self.mesh.x[:, 1], self.mesh.t)
+        cs = ax.tricontourf(tri, z, levels=bounds, cmap="viridis", extend="both")
+        fig.colorbar(cs, ax=ax, label=_LABELS[component])
+        _outline(ax, self.scene.domain, self.scene.cracks)
+        ax.set_aspect("equal")
+        ax.set_title(f"{self.scene.name} (FEM P{self.fem.order}): {_LABELS[component]}")
+        return fig

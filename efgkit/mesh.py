@@ -1,0 +1,484 @@
+"""Triangle meshes of a scene for the finite-element reference model (:mod:`efgkit.fem`).
+
+The mesher is Shewchuk's Triangle through the ``triangle`` package of PyPI
+(``pip install triangle``: a ~2 MB binary wheel, no system libraries). It
+meshes planar straight-line graphs with constrained internal segments (the
+cracks), holes, segment markers (the edge names) and per-triangle area limits
+(the grading): all this module needs. gmsh, the alternative, ships wheels of
+tens of MB that need system OpenGL libraries on Linux, and its scripting API
+is far larger than the problem. Licence note: Triangle is free for research
+and non-commercial use; commercial use of this (optional, reference) model
+needs a licence from its author.
+
+Pipeline of :func:`mesh_scene`:
+
+1. planar straight-line graph: every loop as a polyline (straight edges split
+   at spacing ``h``, arcs at spacing ``h`` and at most pi/8 of sweep), crack
+   mouths inserted into the boundary, crack polylines as internal segments;
+   segment marker ``2 + k`` for edge ``k`` of ``domain.edges()`` and
+   ``2 + n_edges + c`` for crack ``c`` (Triangle reserves 0 and 1);
+2. a quality mesh (minimum angle ``min_angle``) with area limit of size ``h``,
+   then refinement passes with per-triangle area limits until every triangle
+   is no larger than the size field at its vertex nearest a tip,
+   ``s(x) = min(h, tip_h + (grading - 1) |x - tip|)`` (sizes of neighbouring
+   elements then grow by about the factor ``grading``);
+3. vertices of arc facets moved onto their circle;
+4. cracks opened: every node of a crack facet except the tips (a mouth
+   included) is duplicated; the copy goes to the elements on the *right* face
+   of the crack (``cross(b - a, x - a) < 0`` for a crack segment ``a -> b``),
+   the original stays with the left face, as in :mod:`efgkit.crack`.
+
+The element *size* is the edge of the equilateral triangle of the same area,
+``sqrt(4 area / sqrt(3))``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.sparse import coo_array
+from scipy.sparse.csgraph import connected_components
+from scipy.spatial import cKDTree
+
+__all__ = ["TriMesh", "mesh_scene", "plot_mesh", "size_field"]
+
+_MARK0 = 2  # first free Triangle segment marker
+_ARC_MAX_SWEEP = math.pi / 8  # longest arc piece of the initial polyline
+_MAX_ELEMENTS = 4_000_000
+_EQ = math.sqrt(3.0) / 4.0  # area of the unit equilateral triangle
+
+
+@dataclass(frozen=True, eq=False)
+class TriMesh:
+    """A linear triangle mesh of a scene with named boundary facets and open cracks.
+
+    Attributes
+    ----------
+    x : ndarray, shape (n_nodes, 2)
+        Node coordinates; the copies of crack nodes come last.
+    t : ndarray, shape (n_elements, 3), int
+        Counter-clockwise vertex indices.
+    facets : ndarray, shape (n_facets, 2), int
+        Boundary facets (domain edges and crack faces), ordered so that the
+        material is on their left: the outward normal is ``(t_y, -t_x)``.
+    facet_owner : ndarray, shape (n_facets,), int
+        Index ``k >= 0`` into ``domain.edges()``, or ``-1 - c`` for a face of
+        crack ``c``.
+    origin : ndarray, shape (n_nodes,), int
+        The node each node was copied from (itself for all but crack copies).
+    crack_nodes : tuple of (ndarray, ndarray)
+        Per crack: ``(left (k,), right (k,))`` node indices of its opened
+        nodes ordered from the crack's first vertex to its last.
+    tip_nodes : tuple of int
+        Node of each tip, in the order of ``Scene.tips``.
+    domain : Domain
+    cracks : tuple of Crack
+    """
+
+    x: np.ndarray
+    t: np.ndarray
+    facets: np.ndarray
+    facet_owner: np.ndarray
+    origin: np.ndarray
+    crack_nodes: tuple
+    tip_nodes: tuple
+    domain: object
+    cracks: tuple
+
+    @property
+    def n_nodes(self) -> int:
+        return len(self.x)
+
+    @property
+    def n_elements(self) -> int:
+        return len(self.t)
+
+    @property
+    def area(self) -> np.ndarray:
+        """Element areas, shape (n_elements,)."""
+        return _areas(self.x, self.t)
+
+    @property
+    def size(self) -> np.ndarray:
+        """Element sizes ``sqrt(4 area / sqrt(3))``, shape (n_elements,)."""
+        return np.sqrt(self.area / _EQ)
+
+    def boundary(self, name: str) -> np.ndarray:
+        """Indices of the boundary facets of the edges called ``name``, shape (k,).
+
+        KeyError naming the valid edges for an unknown ``name``.
+        """
+        edges = self.domain.edges()
+        self.domain.edges(name)  # KeyError with the valid names
+        owners = [k for k, e in enumerate(edges) if e.name == name]
+        return np.flatnonzero(np.isin(self.facet_owner, owners))
+
+
+def size_field(x, h: float, tips=(), tip_h: float | None = None, grading: float = 1.25):
+    """Target element size ``s(x) = min(h, min_tips(tip_h + (grading - 1) |x - tip|))``.
+
+    Parameters
+    ----------
+    x : array_like, shape (n, 2)
+    h : float
+        Global size.
+    tips : sequence of Tip or points (2,)
+    tip_h : float, optional
+        Size at the tips (default ``h``: uniform).
+    grading : float
+        Ratio of neighbouring element sizes, > 1.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+
+    Examples
+    --------
+    >>> size_field([[0.0, 0.0], [1.0, 0.0], [9.0, 0.0]], 1.0, [(0.0, 0.0)], 0.1, 1.5).tolist()
+    [0.1, 0.6, 1.0]
+    """
+    x = np.atleast_2d(np.asarray(x, dtype=float))
+    s = np.full(len(x), float(h))
+    if tip_h is None or tip_h >= h:
+        return s
+    for tip in tips:
+        p = np.asarray(getattr(tip, "x", tip), dtype=float)
+        s = np.minimum(s, tip_h + (grading - 1.0) * np.linalg.norm(x - p, axis=1))
+    return s
+
+
+def _areas(x, t):
+    a, b, c = x[t[:, 0]], x[t[:, 1]], x[t[:, 2]]
+    return 0.5 * ((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
+
+
+def _check(h, tip_h, grading, min_angle):
+    for name, v in (("h", h), ("grading", grading), ("min_angle", min_angle)) + (
+            (("tip_h", tip_h),) if tip_h is not None else ()):
+        if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
+            raise TypeError(f"{name} must be a real number, got {v!r}")
+        if not math.isfinite(v) or v <= 0:
+            raise ValueError(f"{name} must be finite and > 0, got {v!r}")
+    if tip_h is not None and tip_h > h:
+        raise ValueError(f"tip_h = {tip_h!r} exceeds h = {h!r}: the tip size must be <= the "
+                         "global size (or None for a uniform mesh)")
+    if not 1.0 < grading <= 4.0:
+        raise ValueError(f"grading must lie in (1, 4] (ratio of neighbouring element sizes), "
+                         f"got {grading!r}")
+    if not 0 < min_angle <= 33:
+        raise ValueError(f"min_angle must lie in (0, 33] degrees (Triangle may not terminate "
+                         f"above), got {min_angle!r}")
+
+
+def _pslg(domain, cracks, h):
+    """Vertices (m, 2), segments (k, 2), markers (k,), hole seeds (j, 2), crack vertex ids."""
+    loops, k0 = [], 0
+    for loop in domain.loops:
+        pts, own = [], []
+        for k, e in enumerate(loop.edges()):
+            n = max(1, math.ceil(e.length / h - 1e-9))
+            if e.is_arc:
+                n = max(n, math.ceil(abs(e.sweep) / _ARC_MAX_SWEEP - 1e-9))
+            x, _ = e.at(np.arange(n) / n)
+            x[0] = e.start
+            pts.append(x)
+            own.append(np.full(n, k0 + k))
+        loops.append([np.concatenate(pts), np.concatenate(own)])
+        k0 += len(loop.vertices)
+    n_edges = k0
+    scale = domain.size
+    mouth_at = {}
+    for ci, c in enumerate(cracks):  # insert the mouths into the boundary polylines
+        for end in (0, 1):
+            if c.tips[end]:
+                continue
+            m = c.vertices[0 if end == 0 else -1]
+            best = None
+            for li, (p, _) in enumerate(loops):
+                q = np.roll(p, -1, axis=0)
+                ab = q - p
+                s = np.clip(np.sum((m - p) * ab, 1) / np.sum(ab * ab, 1), 0, 1)
+                d = np.linalg.norm(p + s[:, None] * ab - m, axis=1)
+                j = int(np.argmin(d))
+                if best is None or d[j] < best[0]:
+                    best = (d[j], li, j, s[j])
+            _, li, j, s = best
+            p, own = loops[li]
+            if s < 1e-9 or s > 1 - 1e-9:
+                jj = j if s < 0.5 else (j + 1) % len(p)
+            else:
+                jj = j + 1
+                loops[li] = [np.insert(p, jj, m, axis=0), np.insert(own, jj, own[j])]
+            mouth_at[(ci, end)] = (li, loops[li][0][jj].copy())
+    verts, segs, marks, holes, base = [], [], [], [], 0
+    for li, (p, own) in enumerate(loops):
+        n = len(p)
+        verts.append(p)
+        segs.append(base + np.column_stack([np.arange(n), (np.arange(n) + 1) % n]))
+        marks.append(_MARK0 + own)
+        if li > 0:  # a seed just inside the hole, off the middle of its first segment
+            d = p[1 % n] - p[0] if n > 1 else np.array([0.0, 1.0])
+            holes.append(0.5 * (p[0] + p[1 % n]) + 1e-4 * np.array([d[1], -d[0]]))
+        base += n
+    x = np.concatenate(verts)
+    crack_ids = []
+    for ci, c in enumerate(cracks):
+        ids = []
+        for k, v in enumerate(c.vertices):
+            end = 0 if k == 0 else 1 if k == len(c.vertices) - 1 else None
+            if end is not None and (ci, end) in mouth_at:
+                ids.append(int(np.argmin(np.linalg.norm(x - mouth_at[(ci, end)][1], axis=1))))
+            else:
+                x = np.vstack([x, v])
+                ids.append(len(x) - 1)
+        ids = np.array(ids)
+        crack_ids.append(ids)
+        segs.append(np.column_stack([ids[:-1], ids[1:]]))
+        marks.append(np.full(len(ids) - 1, _MARK0 + n_edges + ci))
+    if cKDTree(x).query_pairs(1e-12 * scale):
+        raise ValueError("two vertices of the domain and crack polylines coincide; check the "
+                         "cracks' vertices against the boundary")
+    return (x, np.concatenate(segs), np.concatenate(marks), np.array(holes).reshape(-1, 2),
+            crack_ids, n_edges)
+
+
+def _triangulate(x, segs, marks, holes, h, size, min_angle):
+    """Quality mesh refined until every triangle meets the size field."""
+    import triangle
+
+    pslg = {"vertices": x, "segments": segs, "segment_markers": marks[:, None]}
+    if len(holes):
+        pslg["holes"] = holes
+    T = triangle.triangulate(pslg, f"pq{min_angle:g}a{_EQ * h * h:.17g}Q")
+    for _ in range(60):
+        p, t = T["vertices"], T["triangles"]
+        area = np.abs(_areas(p, t))
+        target = _EQ * size(p)[t].min(axis=1) ** 2
+        bad = area > target
+        if not bad.any():
+            break
+        T["triangle_max_area"] = np.where(bad, np.maximum(target, area / 4), -1.0)[:, None]
+        if len(holes):
+            T["holes"] = holes
+        T = triangle.triangulate(T, f"rpq{min_angle:g}aQ")
+    else:  # pragma: no cover - Triangle meets area limits in a few passes
+        raise RuntimeError("Triangle did not meet the element sizes in 60 refinement passes")
+    t = T["triangles"].astype(np.int64)
+    neg = _areas(T["vertices"], t) < 0
+    t[neg] = t[neg][:, [0, 2, 1]]
+    return T["vertices"], t, T["segments"].astype(np.int64), T["segment_markers"].ravel()
+
+
+def _edge_keys(a, b, n):
+    lo, hi = np.minimum(a, b), np.maximum(a, b)
+    return lo * n + hi
+
+
+def _open_cracks(x, t, crack_facets, keep):
+    """Duplicate the nodes of crack facets (but not ``keep``) for the right-face elements.
+
+    ``crack_facets (k, 2)`` are node pairs oriented along their crack. Returns the new
+    ``x``, ``t`` and ``origin``.
+    """
+    n = len(x)
+    split = np.setdiff1d(np.unique(crack_facets), keep)
+    if len(split) == 0:
+        return x, t, np.arange(n)
+    is_split = np.zeros(n, bool)
+    is_split[split] = True
+    # incidences (element, local vertex) of split nodes
+    ie, il = np.nonzero(is_split[t])
+    inc_id = np.full(t.shape, -1)
+    inc_id[ie, il] = np.arange(len(ie))
+    # mesh edges with their elements: element e, local edge j = (j, j+1)
+    e3 = np.repeat(np.arange(len(t)), 3)
+    a, b = t[:, [0, 1, 2]].ravel(), t[:, [1, 2, 0]].ravel()
+    la, lb = np.tile([0, 1, 2], len(t)), np.tile([1, 2, 0], len(t))
+    key = _edge_keys(a, b, n)
+    ckey = np.unique(_edge_keys(crack_facets[:, 0], crack_facets[:, 1], n))
+    order = np.argsort(key, kind="stable")
+    ks = key[order]
+    pair = np.flatnonzero(ks[1:] == ks[:-1])  # interior edges: two consecutive equal keys
+    i1, i2 = order[pair], order[pair + 1]
+    ok = ~np.isin(key[i1], ckey)
+    i1, i2 = i1[ok], i2[ok]
+    rows, cols = [], []
+    for end1, end2_a, end2_b in ((la, la, lb), (lb, la, lb)):  # each endpoint of the edge
+        node = t[e3[i1], end1[i1]]
+        loc2 = np.where(t[e3[i2], end2_a[i2]] == node, end2_a[i2], end2_b[i2])
+        s = is_split[node]
+        rows.append(inc_id[e3[i1][s], end1[i1][s]])
+        cols.append(inc_id[e3[i2][s], loc2[s]])
+    rows, cols = np.concatenate(rows), np.concatenate(cols)
+    graph = coo_array((np.ones(len(rows)), (rows, cols)), shape=(len(ie), len(ie)))
+    _, comp = connected_components(graph, directed=False)
+    # side of the elements next to each crack facet: left if the third vertex is left of a -> b
+    fa, fb = crack_facets[:, 0], crack_facets[:, 1]
+    fkey = _edge_keys(fa, fb, n)
+    pos = np.searchsorted(ks, fkey)
+    side = np.zeros(comp.max() + 1)
+    for off in (0, 1):
+        idx = order[np.minimum(pos + off, len(ks) - 1)]
+        e = e3[idx]
+        third = t[e, 3 - la[idx] - lb[idx]]
+        d = x[fb] - x[fa]
+        cr = d[:, 0] * (x[third, 1] - x[fa, 1]) - d[:, 1] * (x[third, 0] - x[fa, 0])
+        sgn = np.where(cr > 0, 1.0, -1.0)
+        for node in (fa, fb):
+            loc = np.argmax(t[e] == node[:, None], axis=1)
+            inc = inc_id[e, loc]
+            good = inc >= 0
+            np.add.at(side, comp[inc[good]], sgn[good])
+    if np.any(side == 0) or np.any(np.bincount(comp) == 0):  # pragma: no cover - defensive
+        raise RuntimeError("opening a crack failed: a face of its node fans touches no crack facet")
+    right = side[comp] < 0
+    new_node = np.unique(t[ie[right], il[right]], return_inverse=True)
+    copies, inv = new_node
+    t = t.copy()
+    t[ie[right], il[right]] = n + inv
+    origin = np.concatenate([np.arange(n), copies])
+    return np.vstack([x, x[copies]]), t, origin
+
+
+def mesh_scene(scene, h: float, tip_h: float | None = None, grading: float = 1.25,
+               min_angle: float = 28.0) -> TriMesh:
+    """Quality triangle mesh of a scene, graded toward its crack tips, cracks opened.
+
+    Parameters
+    ----------
+    scene : Scene
+        Its domain and cracks are meshed.
+    h : float
+        Global element size (> 0).
+    tip_h : float, optional
+        Element size at every crack tip (``<= h``); default ``h`` (no grading).
+    grading : float
+        Growth ratio of neighbouring element sizes away from a tip, in (1, 4].
+    min_angle : float
+        Smallest triangle angle in degrees (Triangle's ``q``), in (0, 33].
+
+    Returns
+    -------
+    TriMesh
+
+    Examples
+    --------
+    >>> from efgkit import Crack, Domain, Elastic, Scene
+    >>> scene = Scene(Domain.rectangle(-1, -1, 1, 1), Elastic(1.0, 0.3),
+    ...               cracks=(Crack([[-1.0, 0.0], [0.0, 0.0]], tips=(False, True)),))
+    >>> m = mesh_scene(scene, h=0.5, tip_h=0.05)
+    >>> round(float(m.area.sum()), 12)
+    4.0
+    >>> left, right = m.crack_nodes[0]
+    >>> bool(np.allclose(m.x[left], m.x[right])), bool(m.size.min() < 0.06)
+    (True, True)
+    """
+    from .scene import Scene
+
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene must be a Scene, got {type(scene).__name__}")
+    _check(h, tip_h, grading, min_angle)
+    tips = scene.tips
+    est = scene.domain.area / (_EQ * h * h)
+    if tip_h is not None and tip_h < h and tips:  # integral of 1/(EQ s^2) over the graded discs
+        est += len(tips) * 2 * math.pi / (_EQ * (grading - 1) ** 2) * math.log(h / tip_h)
+    if est > _MAX_ELEMENTS:
+        raise ValueError(f"h = {h!r}, tip_h = {tip_h!r} would give about {est:.2g} elements "
+                         f"(limit {_MAX_ELEMENTS:.0e}); raise h or tip_h")
+    domain, cracks = scene.domain, scene.cracks
+    x0, segs, marks, holes, crack_ids, n_edges = _pslg(domain, cracks, h)
+
+    def size(p):
+        return size_field(p, h, tips, tip_h, grading)
+
+    x, t, fseg, fmark = _triangulate(x0, segs, marks, holes, h, size, min_angle)
+    edges = domain.edges()
+    owner = fmark - _MARK0
+    for k, e in enumerate(edges):  # vertices of arc facets onto their circle
+        if e.is_arc:
+            v = np.unique(fseg[owner == k])
+            d = x[v] - e.centre
+            r = np.linalg.norm(e.start - e.centre)
+            x[v] = e.centre + r * d / np.linalg.norm(d, axis=1)[:, None]
+    is_crack = owner >= n_edges
+    cf = fseg[is_crack]
+    cidx = owner[is_crack] - n_edges
+    dirs = np.zeros((len(cf), 2))
+    for ci, c in enumerate(cracks):  # orient crack facets along their crack segment
+        sel = cidx == ci
+        mid = 0.5 * (x[cf[sel, 0]] + x[cf[sel, 1]])
+        seg = c.segments
+        ab = seg[:, 1] - seg[:, 0]
+        s = np.clip(np.einsum("nkd,kd->nk", mid[:, None] - seg[None, :, 0], ab) / (ab * ab).sum(1),
+                    0, 1)
+        dist = np.linalg.norm(mid[:, None] - seg[None, :, 0] - s[..., None] * ab, axis=-1)
+        dirs[sel] = ab[np.argmin(dist, axis=1)]
+    flip = np.einsum("nd,nd->n", x[cf[:, 1]] - x[cf[:, 0]], dirs) < 0
+    cf[flip] = cf[flip][:, ::-1]
+    tip_nodes = tuple(int(crack_ids[[c.name for c in cracks].index(tp.crack)][0 if tp.end == 0 else -1])
+                      for tp in tips)
+    n_orig = len(x)
+    x, t, origin = _open_cracks(x, t, cf, np.array(tip_nodes, dtype=np.int64))
+    # boundary facets of the opened mesh, named through the Triangle segment they lie on
+    n0 = len(origin)
+    key = _edge_keys(t[:, [0, 1, 2]].ravel(), t[:, [1, 2, 0]].ravel(), n0)
+    uniq, cnt = np.unique(key, return_counts=True)
+    bnd = np.isin(key, uniq[cnt == 1])
+    fac = np.column_stack([t[:, [0, 1, 2]].ravel()[bnd], t[:, [1, 2, 0]].ravel()[bnd]])
+    okey = _edge_keys(origin[fac[:, 0]], origin[fac[:, 1]], n0)
+    skey = _edge_keys(fseg[:, 0], fseg[:, 1], n0)
+    srt = np.argsort(skey)
+    pos = np.searchsorted(skey[srt], okey)
+    if np.any(skey[srt][np.minimum(pos, len(skey) - 1)] != okey):  # pragma: no cover
+        raise RuntimeError("a boundary facet of the mesh lies on no input segment")
+    own = owner[srt][pos]
+    own = np.where(own >= n_edges, -1 - (own - n_edges), own)
+    crack_nodes = []
+    copy = np.full(n_orig, -1)
+    copy[origin[n_orig:]] = np.arange(n_orig, len(origin))
+    for ci, c in enumerate(cracks):
+        ids = np.unique(cf[cidx == ci])
+        ids = ids[~np.isin(ids, tip_nodes)]
+        right = np.where(copy[ids] >= 0, copy[ids], ids)
+        s = _arclength(c, x[ids])
+        o = np.argsort(s)
+        crack_nodes.append((ids[o], right[o]))
+    return TriMesh(x, t, fac, own, origin, tuple(crack_nodes), tip_nodes, domain, tuple(cracks))
+
+
+def _arclength(crack, p):
+    """Arc-length parameter along the crack polyline of points ``p (n, 2)`` on it."""
+    seg = crack.segments
+    ab = seg[:, 1] - seg[:, 0]
+    ln = np.linalg.norm(ab, axis=1)
+    s = np.clip(np.einsum("nkd,kd->nk", p[:, None] - seg[None, :, 0], ab) / ln**2, 0, 1)
+    d = np.linalg.norm(p[:, None] - seg[None, :, 0] - s[..., None] * ab, axis=-1)
+    k = np.argmin(d, axis=1)
+    return np.concatenate([[0.0], np.cumsum(ln)])[k] + s[np.arange(len(p)), k] * ln[k]
+
+
+def plot_mesh(mesh: TriMesh, ax=None):
+    """Mesh lines, boundary (black), crack faces (red) and tips (red dots); returns the figure.
+
+    Examples
+    --------
+    >>> from efgkit import Domain, Elastic, Scene
+    >>> fig = plot_mesh(mesh_scene(Scene(Domain.rectangle(0, 0, 1, 1), Elastic(1.0, 0.3)), 0.5))
+    >>> fig.axes[0].get_aspect()
+    1.0
+    """
+    from .plot import _axes
+
+    fig, ax = _axes(ax, mesh.domain)
+    ax.triplot(mesh.x[:, 0], mesh.x[:, 1], mesh.t, color="0.6", lw=0.4)
+    f = mesh.facets
+    for sel, colour in ((mesh.facet_owner >= 0, "k"), (mesh.facet_owner < 0, "tab:red")):
+        seg = mesh.x[f[sel]]
+        ax.plot(seg[:, :, 0].T, seg[:, :, 1].T, color=colour, lw=1.0)
+    if mesh.tip_nodes:
+        ax.plot(*mesh.x[list(mesh.tip_nodes)].T, "o", color="tab:red", ms=4)
+    ax.set_aspect("equal")
+    ax.set_title(f"{mesh.n_elements} elements, {mesh.n_nodes} nodes")
+    return fig
