@@ -16,9 +16,9 @@ from __future__ import annotations
 
 import numpy as np
 from numba import njit, prange
-from scipy.sparse import bsr_array, csr_array
+from scipy.sparse import bmat, bsr_array, csr_array, diags_array, kron, vstack
 
-from .approx.mls import Shape
+from .approx.shape import Shape
 
 __all__ = ["stiffness", "load_vector", "lumped_mass", "point_to_function_map"]
 
@@ -186,6 +186,10 @@ def stiffness(trial: Shape, w: np.ndarray, D: np.ndarray, test: Shape | None = N
     """
     test = trial if test is None else test
     w = np.asarray(w, dtype=float)
+    if trial.extra is not None or test.extra is not None:
+        if test is not trial:
+            raise ValueError("enrichment unknowns are supported for Bubnov-Galerkin (test = trial) only")
+        return _with_enrichment(trial, w, np.asarray(D, dtype=float), backend)
     if w.shape != (trial.shape[0],) or test.shape[0] != trial.shape[0]:
         raise ValueError(
             f"weights {w.shape} and operators {test.shape}, {trial.shape} must share n_points"
@@ -209,19 +213,54 @@ def stiffness(trial: Shape, w: np.ndarray, D: np.ndarray, test: Shape | None = N
     return csr_array(K.tocsr())
 
 
+def _nodal_part(shape: Shape) -> Shape:
+    return Shape(shape.neighbours, shape.values, shape.ddx, shape.ddy, shape.n_functions)
+
+
+def _strain_operator(ops, rows: np.ndarray) -> csr_array:
+    """Strain rows (xx, yy, xy per point, point-major) of the points ``rows`` from the
+    gradient operators (d ux/dx, d ux/dy, d uy/dx, d uy/dy)."""
+    gxx, gxy, gyx, gyy = (op[rows] for op in ops)
+    E = vstack([gxx, gyy, csr_array(gxy + gyx)], format="csr")  # component-major
+    m = len(rows)
+    return csr_array(E[(np.arange(3)[None, :] * m + np.arange(m)[:, None]).ravel()])
+
+
+def _with_enrichment(shape: Shape, w, D, backend) -> csr_array:
+    """[[K_nn, K_ne], [K_en, K_ee]]: the nodal block by the row kernel, the blocks of the
+    enrichment unknowns as B^T (w D) B over the points where they are non-zero."""
+    K_nn = stiffness(_nodal_part(shape), w, D, backend=backend)
+    e = shape.extra
+    if e.gxx is None:
+        raise ValueError("stiffness needs shape-function derivatives (derivatives=True)")
+    rows = np.unique(np.concatenate([g.tocoo().row for g in (e.gxx, e.gxy, e.gyx, e.gyy)]))
+    ops = shape.grad_operators()
+    E = _strain_operator(ops, rows)  # (3 m, n_dofs): nodal and enrichment columns
+    WD = csr_array(kron(diags_array(w[rows]), csr_array(D)))
+    n2 = 2 * shape.n_functions
+    Ee = csr_array(E[:, n2:])
+    S = csr_array(WD @ Ee)
+    K_ne = csr_array(E[:, :n2].T @ S)
+    K_ee = csr_array(Ee.T @ S)
+    return csr_array(bmat([[K_nn, K_ne], [K_ne.T, K_ee]], format="csr"))
+
+
 def load_vector(shape: Shape, w: np.ndarray, values: np.ndarray) -> np.ndarray:
-    """f_I = sum_q w_q phi_I(x_q) t(x_q), seed 003 Eq. (22b); shape (2 n_functions,).
+    """f_I = sum_q w_q phi_I(x_q) t(x_q), seed 003 Eq. (22b); shape (n_dofs,).
 
     ``values (n_points, 2)`` is the traction (boundary points) or body force.
     """
     nb = shape.neighbours
     v = np.asarray(values, dtype=float)
-    f = np.zeros(2 * shape.n_functions)
+    f = np.zeros(shape.n_dofs)
     rows, cols = np.nonzero(nb.mask)
     contrib = (w[rows] * shape.values[rows, cols])[:, None] * v[rows]
     I = nb.idx[rows, cols]
-    f[0::2] = np.bincount(I, contrib[:, 0], minlength=shape.n_functions)
-    f[1::2] = np.bincount(I, contrib[:, 1], minlength=shape.n_functions)
+    n2 = 2 * shape.n_functions
+    f[0:n2:2] = np.bincount(I, contrib[:, 0], minlength=shape.n_functions)
+    f[1:n2:2] = np.bincount(I, contrib[:, 1], minlength=shape.n_functions)
+    if shape.extra is not None:
+        f[n2:] = shape.extra.ux.T @ (w * v[:, 0]) + shape.extra.uy.T @ (w * v[:, 1])
     return f
 
 

@@ -23,9 +23,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.sparse import bmat, coo_array, csr_array, diags_array
+from scipy.sparse import bmat, coo_array, csr_array, diags_array, vstack
 
-from .approx.mls import Shape
+from .approx.shape import Shape
 
 __all__ = ["Dirichlet", "LinearSystem", "RigidBodyModeError", "penalty", "lagrange", "rigid_body_modes",
            "modified_variational", "eliminate", "check_rigid_modes"]
@@ -49,8 +49,10 @@ class Dirichlet:
     value : (m, 2)
         Prescribed values (ignored where not fixed).
     segment : (m,) int, t : (m,) float
-        Boundary segment of each point and its local coordinate in [0, 1]
-        (the support of the Lagrange-multiplier hats).
+        Boundary segment of each point and its local coordinate, in [0, 1]
+        except on a corner piece that extrapolates its neighbour's multiplier
+        (the Lagrange-multiplier hats are linear in t between the segment's
+        two hat nodes).
     seg_nodes : (n_segments, 2) int
         Multiplier-hat node numbers at the two ends of each segment.
     """
@@ -99,21 +101,19 @@ class LinearSystem:
         return c
 
 
-def _component_operator(shape: Shape, fixed: np.ndarray, which: str = "values") -> csr_array:
-    """Rows (point, component) for fixed components -> coefficient columns (2 n)."""
-    nb = shape.neighbours
-    vals = getattr(shape, which)
-    rows, cols = np.nonzero(nb.mask)
-    out_r, out_c, out_v = [], [], []
-    row_id = -np.ones(fixed.shape, dtype=np.int64)
-    row_id[fixed] = np.arange(fixed.sum())
-    for comp in range(2):
-        keep = fixed[rows, comp]
-        out_r.append(row_id[rows[keep], comp])
-        out_c.append(2 * nb.idx[rows[keep], cols[keep]] + comp)
-        out_v.append(vals[rows[keep], cols[keep]])
-    return csr_array((np.concatenate(out_v), (np.concatenate(out_r), np.concatenate(out_c))),
-                     shape=(int(fixed.sum()), 2 * shape.n_functions))
+def _fixed_rows(ops, fixed: np.ndarray) -> csr_array:
+    """Rows (point, component) of the fixed components, point-major like ``value[fixed]``.
+
+    ``ops`` are the x and y component operators (n_points, n_dofs).
+    """
+    n = fixed.shape[0]
+    q, c = np.nonzero(fixed)
+    return csr_array(vstack(list(ops), format="csr")[c * n + q])
+
+
+def _component_operator(shape: Shape, fixed: np.ndarray) -> csr_array:
+    """Rows (point, component) for fixed components -> coefficient columns (n_dofs)."""
+    return _fixed_rows(shape.u_operators(), fixed)
 
 
 def rigid_body_modes(x: np.ndarray) -> np.ndarray:
@@ -138,7 +138,8 @@ def check_rigid_modes(C: csr_array, node_x: np.ndarray) -> None:
             "the scene has no essential boundary condition: the body can move as a rigid body. "
             "Add a Support that prescribes ux and uy somewhere (and a rotation restraint)."
         )
-    R = rigid_body_modes(node_x)
+    R = np.zeros((C.shape[1], 3))  # enrichment unknowns (after the nodal ones) stay 0
+    R[: 2 * len(node_x)] = rigid_body_modes(node_x)
     R /= np.linalg.norm(R, axis=0)
     sv = np.linalg.svd(C @ R, compute_uv=False)
     names = ["translation in x", "translation in y", "rotation"]
@@ -188,27 +189,14 @@ def lagrange(K, f, bc: Dirichlet, node_x: np.ndarray) -> LinearSystem:
 
 
 def _traction_operator(bc: Dirichlet, D: np.ndarray) -> csr_array:
-    """Rows (point, fixed comp) -> t_comp(phi) = (D B c . n)_comp at boundary points."""
-    sh = bc.shape
-    nb = sh.neighbours
-    rows, cols = np.nonzero(nb.mask)
-    gx, gy = sh.ddx[rows, cols], sh.ddy[rows, cols]
-    nx, ny = bc.normal[rows, 0], bc.normal[rows, 1]
-    row_id = -np.ones(bc.fixed.shape, dtype=np.int64)
-    row_id[bc.fixed] = np.arange(bc.fixed.sum())
-    # B_I for coefficient component j: strain (exx, eyy, gxy) of a unit coefficient.
-    B = {0: np.stack([gx, 0 * gx, gy]), 1: np.stack([0 * gy, gy, gx])}
-    r_all, c_all, v_all = [], [], []
-    for j in (0, 1):
-        s = D @ B[j]  # stress (3, m)
-        t = (s[0] * nx + s[2] * ny, s[2] * nx + s[1] * ny)
-        for comp in (0, 1):
-            keep = bc.fixed[rows, comp]
-            r_all.append(row_id[rows[keep], comp])
-            c_all.append(2 * nb.idx[rows[keep], cols[keep]] + j)
-            v_all.append(t[comp][keep])
-    return csr_array((np.concatenate(v_all), (np.concatenate(r_all), np.concatenate(c_all))),
-                     shape=(int(bc.fixed.sum()), 2 * sh.n_functions))
+    """Rows (point, fixed comp) -> t_comp = (D eps(c) . n)_comp at boundary points."""
+    gxx, gxy, gyx, gyy = bc.shape.grad_operators()
+    eps = (gxx, gyy, csr_array(gxy + gyx))
+    sig = [csr_array(sum(D[i, j] * eps[j] for j in range(3) if D[i, j] != 0)) for i in range(3)]
+    nx, ny = diags_array(bc.normal[:, 0]), diags_array(bc.normal[:, 1])
+    tx = csr_array(nx @ sig[0] + ny @ sig[2])
+    ty = csr_array(nx @ sig[2] + ny @ sig[1])
+    return _fixed_rows((tx, ty), bc.fixed)
 
 
 def modified_variational(K, f, bc: Dirichlet, D: np.ndarray, beta: float,

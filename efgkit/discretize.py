@@ -14,15 +14,19 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .approx.mls import Shape, mls_shape
+from .approx.approximation import Approximation
+from .approx.crack_rules import CrackLines, CrackRule
+from .approx.enrichment import Enrichment
+from .approx.shape import Shape
+from .approx.tip_functions import TipGeometry
 from .geometry import Domain, Edge
 from .methods import EFG
 from .nodes import NodeCloud, generate_nodes
-from .quadrature import Points, cell_points, gauss_legendre, triangle_points
+from .quadrature import Points, cell_points, triangle_points
 from .scene import Scene
-from .search import BoxGrid, find_neighbours
+from .search import BoxGrid
 
-__all__ = ["Discretization", "discretize", "support_edges", "edge_rule"]
+__all__ = ["Discretization", "discretize", "support_edges", "crack_mouths"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -37,10 +41,9 @@ class Discretization:
         Domain quadrature points ``x (n_points, 2)`` and weights.
     shape : Shape
         Shape functions with derivatives at ``points``.
-    interpolate : (n_nodes,) bool or None
-        Nodes with the Kronecker-delta property (modified MLS only).
-    boxes : BoxGrid
-        The neighbour-search structure (reused for every later evaluation).
+    approx : Approximation
+        The trial functions (nodes, search structure, crack rule,
+        enrichment): evaluates shape functions at any points.
     timings : dict
         Seconds per stage.
     """
@@ -50,37 +53,31 @@ class Discretization:
     nodes: NodeCloud
     points: Points
     shape: Shape
-    interpolate: np.ndarray | None
-    boxes: BoxGrid
+    approx: Approximation
     timings: dict = field(default_factory=dict)
+
+    @property
+    def interpolate(self) -> np.ndarray | None:
+        """Nodes with the Kronecker-delta property (modified MLS only)."""
+        return self.approx.interpolate
+
+    @property
+    def boxes(self) -> BoxGrid:
+        return self.approx.boxes
+
+    @property
+    def n_dofs(self) -> int:
+        """Unknowns of the trial space: 2 per node plus the enrichment unknowns."""
+        return self.approx.n_dofs
 
     def shape_at(self, x: np.ndarray, derivatives: bool = True) -> Shape:
         """Shape functions of this discretisation at points ``x (n, 2)``."""
-        m = self.method
-        x = np.atleast_2d(np.asarray(x, dtype=float))
-        nb = find_neighbours(x, self.nodes, self.boxes)
-        return mls_shape(x, self.nodes, m.weight, m.basis, d_max=m.d_max, alpha=m.alpha,
-                         derivatives=derivatives, neighbours=nb, interpolate=self.interpolate)
+        return self.approx.shape(x, derivatives=derivatives)
 
 
 def support_edges(domain: Domain, where) -> list[Edge]:
     """Edges selected by a support/traction ``where`` (a name, or all edges for a callable)."""
     return domain.edges(where) if isinstance(where, str) else domain.edges()
-
-
-def edge_rule(edge: Edge, n_segments: int, order: int):
-    """Gauss rule on ``n_segments`` equal-parameter pieces of ``edge``.
-
-    Returns x (m, 2), w (m,), normal (m, 2), segment (m,) and local t (m,) in [0, 1].
-    """
-    xi, gw = gauss_legendre(order)
-    seg = np.repeat(np.arange(n_segments), order)
-    t = np.tile((xi + 1) / 2, n_segments)
-    s = (seg + t) / n_segments
-    x, tangent = edge.at(s)
-    w = np.tile(gw / 2, n_segments) * edge.length / n_segments
-    normal = np.column_stack([tangent[:, 1], -tangent[:, 0]])
-    return x, w, normal, seg, t
 
 
 def _nodes_on(edge: Edge, x: np.ndarray, tol: float) -> np.ndarray:
@@ -94,6 +91,12 @@ def _nodes_on(edge: Edge, x: np.ndarray, tol: float) -> np.ndarray:
         d = np.linalg.norm(x[:, None] - aa - t[..., None] * ab, axis=-1).min(axis=1)
         best = np.minimum(best, d)
     return best <= tol
+
+
+def crack_mouths(scene: Scene) -> np.ndarray:
+    """The crack ends on the boundary (not tips), shape (b, 2): boundary rules break there."""
+    pts = [c.vertices[-1 if e else 0] for c in scene.cracks for e in (0, 1) if not c.tips[e]]
+    return np.array(pts).reshape(-1, 2)
 
 
 def essential_nodes(scene: Scene, nodes: NodeCloud, spacing: float) -> np.ndarray:
@@ -127,7 +130,7 @@ def discretize(scene: Scene, method: EFG) -> Discretization:
         raise TypeError(f"method must be an EFG description, got {type(method).__name__}")
     timings = {}
     t0 = time.perf_counter()
-    nodes = generate_nodes(scene.domain, method)
+    nodes = generate_nodes(scene.domain, method, scene.cracks)
     interpolate = None
     if method.bc == "modified_mls":
         warnings.warn(
@@ -142,22 +145,85 @@ def discretize(scene: Scene, method: EFG) -> Discretization:
     t0 = time.perf_counter()
     if method.quadrature == "cells":
         points = cell_points(scene.domain, method.cell_size or method.spacing, method.order,
-                             zones=method.zones, refined_order=method.refined_order)
+                             zones=method.zones + tip_zones(scene, method),
+                             refined_order=method.refined_order, cracks=scene.cracks,
+                             tip_rays=shadow_rays(scene, nodes), tip_order=method.tip_order)
     else:
         points = triangle_points(scene.domain, nodes.x, method.order)
     timings["quadrature"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    boxes = BoxGrid.build(nodes)
-    order = np.argsort(boxes.box_of(points.x), kind="stable")  # locality for the kernels
+    approx = approximation(scene, method, nodes, interpolate)
+    order = np.argsort(approx.boxes.box_of(points.x), kind="stable")  # locality for the kernels
     points = Points(points.x[order], points.w[order],
                     None if points.owner is None else points.owner[order])
-    nb = find_neighbours(points.x, nodes, boxes)
     timings["search"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    shape = mls_shape(points.x, nodes, method.weight, method.basis, d_max=method.d_max,
-                      alpha=method.alpha, neighbours=nb, interpolate=interpolate)
+    shape = approx.shape(points.x)
     timings["shape"] = time.perf_counter() - t0
-    return Discretization(scene, method, nodes, points, shape, interpolate, boxes, timings)
+    return Discretization(scene, method, nodes, points, shape, approx, timings)
+
+
+def tip_zones(scene: Scene, method: EFG) -> tuple:
+    """Quadrature zones around the crack tips: cells within max(2 h, the enrichment radius)
+    of a tip are split in 2 x 2 and use ``method.tip_order``."""
+    from .methods import Zone
+
+    h = method.cell_size or method.spacing
+    radius = 2.0 * h
+    if method.enrichment in ("radial", "full"):
+        radius = max(radius, method.ramp_outer)
+    return tuple(Zone(tuple(t.x), radius, h / 2) for t in scene.tips)
+
+
+def shadow_rays(scene: Scene, nodes: NodeCloud) -> list[np.ndarray]:
+    """For every tip, the directions ``tip - x_I (k, 2)`` of the nodes whose support holds
+    it: the rays through the tip where the crack rules put kinks in the weights."""
+    rays = []
+    for tip in scene.tips:
+        d = tip.x - nodes.x
+        r = np.hypot(*d.T)
+        rays.append(d[(r < nodes.radius) & (r > 1e-9 * nodes.radius)])
+    return rays
+
+
+def approximation(scene: Scene, method: EFG, nodes: NodeCloud,
+                  interpolate: np.ndarray | None = None) -> Approximation:
+    """The trial functions of ``method`` on ``nodes`` for ``scene`` (crack rule, enrichment)."""
+    lines = rule = enrichment = None
+    if scene.cracks:
+        lines = CrackLines.from_cracks(scene.cracks)
+        rule = CrackRule(method.crack_rule, method.rule_power, method.kappa, method.spacing)
+        if method.crack_rule == "transparency":
+            _warn_close_to_crack(nodes, lines, method.spacing)
+        if method.enrichment != "none":
+            tips = [TipGeometry.of(c, e) for c in scene.cracks for e in (0, 1) if c.tips[e]]
+            r2 = method.ramp_outer
+            if method.enrichment == "extrinsic_mls":
+                r2 = method.enrich_radius if method.enrich_radius is not None else np.inf
+            enrichment = Enrichment.build(method.enrichment, tips, nodes, scene.material,
+                                          method.ramp_inner, r2, method.ramp, method.pu_radius)
+    elif method.enrichment != "none":
+        raise ValueError(f"enrichment={method.enrichment!r} needs a crack tip, but scene "
+                         f"{scene.name!r} has no cracks; use enrichment='none'")
+    return Approximation(nodes, BoxGrid.build(nodes), method.weight, method.basis, method.d_max,
+                         method.alpha, method.spacing, interpolate, lines, rule, enrichment)
+
+
+def _warn_close_to_crack(nodes: NodeCloud, lines: CrackLines, h: float) -> None:
+    """Seed 003 Sect. 4.3: transparency needs nodes at least h/4 from the crack surface."""
+    d = lines.distance(nodes.x)
+    on = nodes.face is not None and nodes.face != 0
+    close = (d < 0.25 * h) & ~on
+    tips = lines.tip_positions()
+    far_from_tip = np.min(np.hypot(*(nodes.x[:, None, :] - tips[None]).transpose(2, 0, 1)), axis=1) > 0.25 * h
+    close &= far_from_tip
+    if close.any():
+        k = int(np.flatnonzero(close)[0])
+        warnings.warn(
+            f"crack_rule='transparency': {int(close.sum())} node(s) lie closer than h/4 = "
+            f"{0.25 * h:g} to a crack surface (e.g. node {k} at {nodes.x[k].tolist()}, distance "
+            f"{d[k]:.3g}); seed 003 Sect. 4.3 advises against it (a trough appears in the shape "
+            "functions). Move the nodes or use another crack rule.", UserWarning, stacklevel=3)
 
 
 def _interpolating_supports(nodes: NodeCloud, interp: np.ndarray) -> NodeCloud:
@@ -179,6 +245,7 @@ def _interpolating_supports(nodes: NodeCloud, interp: np.ndarray) -> NodeCloud:
 
 
 def boundary_segments_for(edge: Edge, nodes: NodeCloud, spacing: float) -> int:
-    """Number of rule pieces on ``edge``: at least one per node interval on it."""
+    """Number of equal-parameter pieces of the boundary rules (and Lagrange-multiplier hats)
+    on ``edge``: at least one per node interval on it."""
     on = _nodes_on(edge, nodes.x, 1e-6 * spacing).sum()
     return max(1, math.ceil(edge.length / spacing - 1e-9), int(on) - 1)

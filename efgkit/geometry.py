@@ -70,6 +70,17 @@ class Edge:
         t = sgn * np.column_stack([-np.sin(ang), np.cos(ang)])
         return x, t
 
+    def parameter(self, x: np.ndarray) -> np.ndarray:
+        """Parameter s in [0, 1] of points ``x (n, 2)`` projected on the edge, shape (n,)."""
+        x = np.atleast_2d(np.asarray(x, dtype=float))
+        if not self.is_arc:
+            d = self.end - self.start
+            return np.clip((x - self.start) @ d / (d @ d), 0.0, 1.0)
+        a0 = math.atan2(*(self.start - self.centre)[::-1])
+        ang = np.arctan2(x[:, 1] - self.centre[1], x[:, 0] - self.centre[0]) - a0
+        turn = math.copysign(2 * math.pi, self.sweep)
+        return np.clip(np.mod(ang, turn) / self.sweep, 0.0, 1.0)
+
     def polyline(self) -> np.ndarray:
         """Vertices of the edge as a polyline, shape (m + 1, 2), start and end included."""
         if not self.is_arc:

@@ -11,13 +11,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["EFG", "Zone", "WEIGHTS", "BASES", "BC_METHODS", "QUADRATURES", "SOLVERS"]
+__all__ = ["EFG", "Zone", "Rosette", "WEIGHTS", "BASES", "BC_METHODS", "QUADRATURES", "SOLVERS",
+           "CRACK_RULES", "ENRICHMENTS", "RAMPS"]
 
 WEIGHTS = ("quartic", "gaussian", "cubic")
 BASES = ("linear", "quadratic")
 BC_METHODS = ("penalty", "lagrange", "variational", "modified_mls")
 QUADRATURES = ("cells", "triangles")
 SOLVERS = ("auto", "direct", "amg")
+CRACK_RULES = ("visibility", "diffraction", "transparency", "see_through")
+ENRICHMENTS = ("none", "radial", "full", "extrinsic_mls", "pu")
+RAMPS = ("linear", "quintic")
 
 
 def _positive(name, v, integer=False):
@@ -51,6 +55,29 @@ class Zone:
         object.__setattr__(self, "centre", c)
         _positive("zone radius", self.radius)
         _positive("zone spacing", self.spacing)
+
+
+@dataclass(frozen=True)
+class Rosette:
+    """Star-shaped node array around every crack tip (seed 003 Sect. 2.2, Fig. 29).
+
+    ``rings`` rings of radii ``radius k / rings`` (k = 1..rings), each of
+    ``per_ring`` nodes counted as in the seed (the node on the crack faces
+    counts twice, once per face), and a node at the tip. Background nodes
+    inside the rosette are switched off; the rosette moves with the tip.
+    """
+
+    radius: float
+    rings: int = 4
+    per_ring: int = 9
+
+    def __post_init__(self):
+        _positive("rosette radius", self.radius)
+        _positive("rosette rings", self.rings, integer=True)
+        _positive("rosette per_ring", self.per_ring, integer=True)
+        if self.per_ring < 4:
+            raise ValueError(f"rosette per_ring must be >= 4 (three distinct angles and the "
+                             f"split face node), got {self.per_ring!r}")
 
 
 @dataclass(frozen=True, eq=False)
@@ -101,7 +128,31 @@ class EFG:
         bc="variational": the Nitsche stabilisation in the same units
         (default 1e2).
     solver : {"auto", "direct", "amg"}
-        SuperLU or pyamg smoothed aggregation + CG; "auto" picks by size.
+        SuperLU or CG with a multigrid preconditioner; "auto" picks by size.
+    crack_rule : {"visibility", "diffraction", "transparency", "see_through"}
+        How supports see cracks (:mod:`efgkit.approx.crack_rules`).
+    rule_power : float
+        lambda of the diffraction (Eq. 29) or transparency (Eq. 32, >= 2) rule.
+    kappa : float
+        Transparency: opaque at kappa h behind the tip (Eq. 33).
+    rosette : Rosette, optional
+        Star-shaped node array at every tip.
+    enrichment : {"none", "radial", "full", "extrinsic_mls", "pu"}
+        Crack-tip enrichment (seed 003 Sect. 5): intrinsic sqrt(r) basis
+        (Eq. 52) or full near-tip basis (Eq. 50), ramped to the linear basis
+        (Eqs. 53-56); extrinsic MLS with global K_I, K_II unknowns per tip
+        (Eqs. 37-47); extrinsic partition of unity (Eqs. 48-49).
+    enrich_radius : float, optional
+        Intrinsic: the outer ramp radius r2 (default 4 spacings); PU: nodes
+        whose support comes within this distance of a tip are enriched
+        (default 2 spacings); extrinsic MLS: the fields are global (ignored).
+    ramp : {"linear", "quintic"}
+        Intrinsic ramp R of Eq. (54).
+    ramp_inner : float
+        r1 of Eq. (54): R = 1 inside it.
+    tip_order : int
+        Gauss points per direction in the background cells within
+        ``enrich_radius`` (or 2 spacings) of a tip.
     """
 
     spacing: float
@@ -120,6 +171,15 @@ class EFG:
     bc: str = "penalty"
     penalty: float | None = None
     solver: str = "auto"
+    crack_rule: str = "diffraction"
+    rule_power: float = 2.0
+    kappa: float = 0.5
+    rosette: Rosette | None = None
+    enrichment: str = "none"
+    enrich_radius: float | None = None
+    ramp: str = "quintic"
+    ramp_inner: float = 0.0
+    tip_order: int = 8
 
     def __post_init__(self):
         _positive("spacing", self.spacing)
@@ -147,6 +207,33 @@ class EFG:
         if self.penalty is not None:
             _positive("penalty", self.penalty)
         _choice("solver", self.solver, SOLVERS)
+        _choice("crack_rule", self.crack_rule, CRACK_RULES)
+        _positive("rule_power", self.rule_power)
+        if self.crack_rule == "transparency" and self.rule_power < 2:
+            raise ValueError(f"crack_rule='transparency' needs rule_power >= 2 (seed 003 Eq. 32), "
+                             f"got {self.rule_power!r}")
+        _positive("kappa", self.kappa)
+        if self.rosette is not None and not isinstance(self.rosette, Rosette):
+            raise TypeError(f"rosette must be a Rosette, got {type(self.rosette).__name__}")
+        _choice("enrichment", self.enrichment, ENRICHMENTS)
+        if self.enrich_radius is not None:
+            _positive("enrich_radius", self.enrich_radius)
+        _choice("ramp", self.ramp, RAMPS)
+        if not (isinstance(self.ramp_inner, (int, float)) and math.isfinite(self.ramp_inner)
+                and 0 <= self.ramp_inner < self.ramp_outer):
+            raise ValueError(f"ramp_inner must lie in [0, enrich_radius = {self.ramp_outer}), "
+                             f"got {self.ramp_inner!r}")
+        _positive("tip_order", self.tip_order, integer=True)
+
+    @property
+    def ramp_outer(self) -> float:
+        """r2 of the intrinsic ramp (Eq. 54)."""
+        return self.enrich_radius if self.enrich_radius is not None else 4.0 * self.spacing
+
+    @property
+    def pu_radius(self) -> float:
+        """PU enrichment: nodes whose support comes this close to a tip are enriched."""
+        return self.enrich_radius if self.enrich_radius is not None else 2.0 * self.spacing
 
     @property
     def regular(self) -> bool:

@@ -31,11 +31,20 @@ class NodeCloud:
         Support radii d_mI = d_max c_I (seed 003 Eq. 2).
     boundary : ndarray, shape (n_nodes,), bool
         Nodes generated on the boundary.
+    face : ndarray, shape (n_nodes,), int8, or None
+        For nodes split on a crack (seed 003 Sect. 2.2: one node per face):
+        +1 on the left face of the crack segment they lie on, -1 on the right
+        face, 0 for all other nodes. None when the scene has no cracks.
+    face_segment : ndarray, shape (n_nodes,), int, or None
+        The crack segment (global index over the scene's cracks, in order) a
+        split node lies on, -1 for all other nodes.
     """
 
     x: np.ndarray
     radius: np.ndarray
     boundary: np.ndarray
+    face: np.ndarray | None = None
+    face_segment: np.ndarray | None = None
 
     @property
     def n(self) -> int:
@@ -88,7 +97,7 @@ def _local_spacing(x: np.ndarray, method: EFG) -> np.ndarray:
     return h
 
 
-def generate_nodes(domain: Domain, method: EFG) -> NodeCloud:
+def generate_nodes(domain: Domain, method: EFG, cracks=()) -> NodeCloud:
     """The node cloud of ``method`` on ``domain``.
 
     Boundary nodes are placed on every edge at the local spacing; grid nodes
@@ -97,13 +106,38 @@ def generate_nodes(domain: Domain, method: EFG) -> NodeCloud:
     nodes by a uniform random fraction of the local spacing in each direction
     and never moves a node out of the material.
 
+    With ``cracks``: a star-shaped rosette of nodes is placed around every tip
+    when ``method.rosette`` is set (background nodes inside it switched off,
+    seed 003 Sect. 2.2 and Fig. 29), and every node lying on a crack
+    (within 1e-6 of the local spacing, tips excepted) is split into two nodes,
+    one per face (:attr:`NodeCloud.face`). Support radii are those of the
+    unsplit cloud: both copies of a split node share one.
+
     Examples
     --------
-    >>> from efgkit import Domain, EFG
+    >>> from efgkit import Crack, Domain, EFG
     >>> cloud = generate_nodes(Domain.rectangle(0, 0, 1, 1), EFG(spacing=0.25))
     >>> cloud.n, float(cloud.radius.min())
     (25, 0.5)
+    >>> cracked = generate_nodes(Domain.rectangle(0, 0, 1, 1), EFG(spacing=0.25),
+    ...                          [Crack([[0.0, 0.5], [0.5, 0.5]], (False, True))])
+    >>> cracked.n, sorted(cracked.face.tolist()).count(1)   # 2 nodes on the crack split
+    (27, 2)
     """
+    x, is_bnd = _positions(domain, method)
+    regular = method.regular
+    if cracks and method.rosette is not None:
+        x, is_bnd = _with_rosettes(x, is_bnd, domain, method, cracks)
+        regular = False
+    radius = support_radii(x, method.d_max, regular)
+    if not cracks:
+        return NodeCloud(x, radius, is_bnd)
+    return _split_on_cracks(NodeCloud(x, radius, is_bnd), cracks, _local_spacing(x, method),
+                            keep_single=method.crack_rule == "see_through")
+
+
+def _positions(domain: Domain, method: EFG) -> tuple[np.ndarray, np.ndarray]:
+    """Node coordinates (n, 2) and the boundary flags (n,) of the uncracked cloud."""
     if method.coordinates is not None:
         x = np.asarray(method.coordinates, dtype=float)
         tol = 1e-9 * domain.size
@@ -113,8 +147,7 @@ def generate_nodes(domain: Domain, method: EFG) -> NodeCloud:
                 f"{int(outside.sum())} given node(s) lie outside the domain, e.g. "
                 f"{x[outside][0].tolist()}; remove them or enlarge the domain"
             )
-        on_bnd = domain.distance_to_boundary(x) <= tol
-        return NodeCloud(x, support_radii(x, method.d_max, regular=False), on_bnd)
+        return x, domain.distance_to_boundary(x) <= tol
 
     h = method.spacing
     # Boundary nodes: coarse ones outside zones, fine ones inside each zone.
@@ -157,4 +190,64 @@ def generate_nodes(domain: Domain, method: EFG) -> NodeCloud:
         drop = np.zeros(len(x), bool)
         drop[pairs.max(axis=1)] = True
         x, is_bnd = x[~drop], is_bnd[~drop]
-    return NodeCloud(x, support_radii(x, method.d_max, method.regular), is_bnd)
+    return x, is_bnd
+
+
+def _with_rosettes(x, is_bnd, domain: Domain, method: EFG, cracks):
+    """Add the rosette of ``method.rosette`` around every tip (seed 003 Fig. 29).
+
+    A rosette has ``rings`` rings of radii ``radius k / rings`` with
+    ``per_ring - 1`` nodes each at angles ``-pi + 2 pi j / (per_ring - 1)``
+    from the tip direction (the node at the crack faces, theta = +-pi, is
+    split later, so a ring counts ``per_ring`` nodes as in the seed), plus a
+    node at the tip. Background nodes closer to the tip than the outer ring
+    plus half a ring gap are switched off; rosette nodes outside the body
+    are dropped.
+    """
+    ros = method.rosette
+    keep = np.ones(len(x), bool)
+    added = []
+    for c in cracks:
+        for tip in c.tip_list:
+            gap = ros.radius / ros.rings
+            keep &= np.hypot(*(x - tip.x).T) > ros.radius + 0.5 * gap
+            r = ros.radius * np.arange(1, ros.rings + 1) / ros.rings
+            th = tip.angle - np.pi + 2 * np.pi * np.arange(ros.per_ring - 1) / (ros.per_ring - 1)
+            R, T = np.meshgrid(r, th, indexing="ij")
+            ring = tip.x + np.column_stack([(R * np.cos(T)).ravel(), (R * np.sin(T)).ravel()])
+            added.append(np.vstack([tip.x, ring]))
+    new = np.concatenate(added)
+    new = new[domain.contains(new) & (domain.distance_to_boundary(new) > 1e-9 * domain.size)]
+    return np.concatenate([x[keep], new]), np.concatenate([is_bnd[keep], np.zeros(len(new), bool)])
+
+
+def _split_on_cracks(cloud: NodeCloud, cracks, spacing: np.ndarray, keep_single: bool = False
+                     ) -> NodeCloud:
+    """Split nodes lying on a crack (not at a tip) into a left-face and a right-face copy.
+
+    ``keep_single`` (the see-through rule): a node whose support holds a tip of
+    its crack sees both faces anyway, so its two copies would be the same
+    function; it stays one node.
+    """
+    x = cloud.x
+    seg_of = np.full(len(x), -1)
+    s0 = 0
+    tips = np.array([t.x for c in cracks for t in c.tip_list])
+    for c in cracks:
+        for k, (a, b) in enumerate(c.segments):
+            ab = b - a
+            t = np.clip((x - a) @ ab / (ab @ ab), 0.0, 1.0)
+            on = np.hypot(*(x - a - t[:, None] * ab).T) <= 1e-6 * spacing
+            seg_of = np.where(on & (seg_of < 0), s0 + k, seg_of)
+        s0 += len(c.segments)
+    at_tip = np.zeros(len(x), bool)
+    for tip in tips:
+        d = np.hypot(*(x - tip).T)
+        at_tip |= (d <= 1e-6 * spacing) | (keep_single & (d < cloud.radius))
+    seg_of[at_tip] = -1
+    split = np.flatnonzero(seg_of >= 0)
+    order = np.concatenate([np.arange(len(x)), split])
+    face = np.zeros(len(order), np.int8)
+    face[split] = 1
+    face[len(x):] = -1
+    return NodeCloud(x[order], cloud.radius[order], cloud.boundary[order], face, seg_of[order])

@@ -23,7 +23,7 @@ from scipy.special import roots_jacobi
 
 from .geometry import Domain
 
-__all__ = ["Points", "boundary_points", "cell_points", "gauss_legendre", "triangle_points",
+__all__ = ["Points", "boundary_points", "cell_points", "edge_rule", "gauss_legendre", "triangle_points",
            "triangle_rule"]
 
 _EPS = 1e-9  # "on a grid line", in units of the cell size
@@ -236,7 +236,10 @@ def _cut_triangles(p, q, c, n_cells, inside):
     la, lb = np.concatenate([np.zeros(ns), ya]), np.concatenate([np.zeros(ns), yb])
     up = np.concatenate([np.zeros(ns, bool), q[j, 0] > p[j, 0]])
     bottom = np.arange(len(ls)) < ns
-    o = np.lexsort((np.where(bottom, -1.0, 0.5 * (la + lb)), ls))
+    # coincident lines (the two sides of a crack slit): the one travelling in -x first, so
+    # that the material below and above the slit is kept and only the slit's zero-area
+    # strip lies between them
+    o = np.lexsort((up, np.where(bottom, -1.0, 0.5 * (la + lb)), ls))
     ls, la, lb, up, bottom = ls[o], la[o], lb[o], up[o], bottom[o]
     last = np.append(ls[1:] != ls[:-1], True)
     ua = np.where(last, 1.0, np.append(la[1:], 1.0))  # the line above: next one or y = 1
@@ -281,7 +284,8 @@ def _grid_rule(domain: Domain, seg, origin, size, cells, order):
 
 
 def cell_points(domain: Domain, cell_size: float, order: int, zones=(),
-                refined_order: int | None = None) -> Points:
+                refined_order: int | None = None, cracks=(), tip_rays=None,
+                tip_order: int | None = None) -> Points:
     """Background-cell quadrature, with cells cut by the boundary clipped to the material.
 
     A grid of square cells of side ``cell_size`` starts at the lower-left
@@ -301,6 +305,15 @@ def cell_points(domain: Domain, cell_size: float, order: int, zones=(),
         Gauss points per direction outside and inside zones (default: ``order``).
     zones : sequence of efgkit.methods.Zone
         Refinement discs (``centre``, ``radius``, ``spacing``).
+    cracks : sequence of Crack
+        Cells cut by a crack are split along it (the crack is a two-sided
+        slit of the material), and the cells holding a tip get the fan rule
+        of :func:`efgkit.tip_quadrature.tip_cell_rule`.
+    tip_rays : sequence of ndarray (k, 2), optional
+        For every tip (in ``scene.tips`` order), the shadow-ray directions to
+        split its fan at (besides the crack).
+    tip_order : int, optional
+        Points per direction of the tip fan rules (default: ``refined_order``).
 
     Returns
     -------
@@ -334,13 +347,24 @@ def cell_points(domain: Domain, cell_size: float, order: int, zones=(),
         inz = np.sum((centre - np.asarray(z.centre)) ** 2, axis=1) <= z.radius**2
         level[inz] = np.maximum(level[inz], math.ceil(cell_size / z.spacing - 1e-9))
     seg = domain.boundary_segments()
+    if cracks:  # each crack segment as a slit: travelled both ways
+        cs = np.concatenate([c.segments for c in cracks])
+        seg = np.concatenate([seg, cs, cs[:, ::-1]])
+    tips = [t for c in cracks for t in c.tip_list]
     parts, offset = [], 0
     for k in np.unique(level):
         sel = cells[level == k]
         if k > 0:  # the k x k sub-cells of each cell
             sub = np.column_stack(np.divmod(np.arange(k * k), k))
             sel = (sel[:, None, :] * k + sub).reshape(-1, 2)
-        x, w, owner = _grid_rule(domain, seg, origin, cell_size / max(k, 1), sel,
+        size = cell_size / max(k, 1)
+        if tips:
+            sel, fans = _tip_cells(sel, origin, size, tips, cracks, tip_rays,
+                                   tip_order or refined_order)
+            for x, w in fans:
+                parts.append((x, w, np.full(len(x), offset)))
+                offset += 1
+        x, w, owner = _grid_rule(domain, seg, origin, size, sel,
                                  refined_order if k > 0 else order)
         parts.append((x, w, owner + offset))
         offset += len(sel)
@@ -348,6 +372,29 @@ def cell_points(domain: Domain, cell_size: float, order: int, zones=(),
     used = np.zeros(offset, bool)
     used[owner] = True
     return Points(x, w, (np.cumsum(used) - 1)[owner])
+
+
+def _tip_cells(sel, origin, size, tips, cracks, tip_rays, order):
+    """Remove the cells of ``sel (c, 2)`` whose closed square holds a tip; return the
+    remaining cells and the fan rules (x, w) of the removed ones."""
+    from .tip_quadrature import tip_cell_rule
+
+    fans, drop = [], np.zeros(len(sel), bool)
+    by_name = {c.name: c for c in cracks}
+    for t, tip in enumerate(tips):
+        u = (tip.x - origin) / size
+        hold = np.all((sel >= np.floor(u - 1e-9) - 1) & (sel <= np.floor(u + 1e-9)), axis=1)
+        hold &= np.all((sel <= u + 1e-9) & (u - 1e-9 <= sel + 1), axis=1)
+        crack = by_name[tip.crack]
+        v = crack.vertices if tip.end == 0 else crack.vertices[::-1]
+        rays = [v[1] - v[0]]
+        if tip_rays is not None:
+            rays.append(np.asarray(tip_rays[t], dtype=float).reshape(-1, 2))
+        rays = np.vstack(rays)
+        for i in np.flatnonzero(hold & ~drop):
+            fans.append(tip_cell_rule(origin + size * sel[i], size, tip.x, rays, order))
+            drop[i] = True
+    return sel[~drop], fans
 
 
 def triangle_points(domain: Domain, nodes, order: int) -> Points:
@@ -387,8 +434,44 @@ def triangle_points(domain: Domain, nodes, order: int) -> Points:
     return Points(*_on_triangles(v[keep], 2 * order - 1, np.arange(len(keep))))
 
 
+def edge_rule(edge, n_segments, order: int, breaks: np.ndarray | None = None):
+    """Gauss rule on ``n_segments`` equal-parameter pieces of ``edge`` (or on the pieces
+    between the parameters ``n_segments``, an increasing array from 0 to 1), further
+    split at the points of ``breaks (b, 2)`` that lie on the edge (crack mouths).
+
+    Returns x (m, 2), w (m,), outward normal (m, 2) and the edge parameter
+    s (m,) in [0, 1] of each point.
+
+    Examples
+    --------
+    >>> from efgkit.geometry import Domain
+    >>> e = Domain.rectangle(0, 0, 1, 1).edges("left")[0]
+    >>> x, w, n, s = edge_rule(e, 2, 2, breaks=np.array([[0.0, 0.3]]))
+    >>> round(float(w.sum()), 14), len(x)   # 3 pieces: cut at y = 0.3 (the left edge runs down)
+    (1.0, 6)
+    """
+    knots = (np.linspace(0.0, 1.0, n_segments + 1) if np.ndim(n_segments) == 0
+             else np.asarray(n_segments, dtype=float))
+    if breaks is not None and len(breaks):
+        b = np.asarray(breaks, dtype=float).reshape(-1, 2)
+        s = edge.parameter(b)
+        on_edge = np.hypot(*(edge.at(s)[0] - b).T) <= 1e-9 * max(edge.length, 1e-300)
+        s = s[on_edge & (s > 1e-9) & (s < 1 - 1e-9)]
+        knots = np.unique(np.concatenate([knots, s]))
+        knots = knots[np.append(True, np.diff(knots) > 1e-9)]
+        knots[-1] = 1.0
+    xi, gw = gauss_legendre(order)
+    lo, hi = knots[:-1], knots[1:]
+    seg = np.repeat(np.arange(len(lo)), order)
+    t = np.tile((xi + 1) / 2, len(lo))
+    x, tangent = edge.at(lo[seg] + t * (hi - lo)[seg])
+    w = np.tile(gw / 2, len(lo)) * edge.length * (hi - lo)[seg]
+    normal = np.column_stack([tangent[:, 1], -tangent[:, 0]])
+    return x, w, normal, lo[seg] + t * (hi - lo)[seg]
+
+
 def boundary_points(domain: Domain, where: str | Callable | None, order: int,
-                    h: float) -> Points:
+                    h: float, breaks: np.ndarray | None = None) -> Points:
     """Gauss-Legendre points along boundary edges.
 
     Each selected edge is split into ``ceil(length / h)`` segments of equal
@@ -406,6 +489,9 @@ def boundary_points(domain: Domain, where: str | Callable | None, order: int,
         Gauss points per segment.
     h : float
         Segment length (the nodal spacing).
+    breaks : ndarray (b, 2), optional
+        Points where the rule must not straddle (crack mouths, where the
+        trial functions jump): an edge through one is split there.
 
     Returns
     -------
@@ -435,14 +521,11 @@ def boundary_points(domain: Domain, where: str | Callable | None, order: int,
         sel, mask = range(len(edges)), where
     else:
         raise TypeError(f"where must be an edge name, a callable x -> mask or None, got {where!r}")
-    xi, wi = gauss_legendre(order)
     parts = []
     for k in sel:
         e = edges[k]
-        m = max(1, math.ceil(e.length / h - 1e-9))
-        x, t = e.at(((np.arange(m)[:, None] + (xi + 1) / 2) / m).ravel())
-        parts.append(Points(x, np.tile(wi / 2, m) * e.length / m, np.full(len(x), k),
-                            np.column_stack([t[:, 1], -t[:, 0]])))
+        x, w, normal, _ = edge_rule(e, max(1, math.ceil(e.length / h - 1e-9)), order, breaks)
+        parts.append(Points(x, w, np.full(len(x), k), normal))
     pts = Points.concatenate(*parts)
     if mask is None:
         return pts

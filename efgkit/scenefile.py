@@ -45,7 +45,7 @@ from .analytic import Field
 from .crack import Crack
 from .geometry import Domain, Loop
 from .material import Elastic
-from .methods import EFG, Zone
+from .methods import EFG, Rosette, Zone
 from .scene import Scene, Support, Traction
 
 try:
@@ -272,11 +272,15 @@ _SCHEMA: dict[str, tuple[type, tuple[str, ...], dict[str, Callable | None]]] = {
     "cracks": (Crack, ("vertices",), {"vertices": _points, "tips": _tips, "name": _str}),
     "zones": (Zone, ("centre", "radius", "spacing"),
               {"centre": _pair, "radius": _num, "spacing": _num}),
+    "rosette": (Rosette, ("radius",), {"radius": _num, "rings": _int, "per_ring": _int}),
     "efg": (EFG, ("spacing",), {
         "spacing": _num, "zones": _many("zones"), "perturb": _num, "seed": _int,
         "coordinates": _points, "d_max": _num, "weight": _str, "alpha": _num,
         "basis": _str, "quadrature": _str, "order": _int, "refined_order": _int,
-        "cell_size": _num, "bc": _str, "penalty": _num, "solver": _str}),
+        "cell_size": _num, "bc": _str, "penalty": _num, "solver": _str,
+        "crack_rule": _str, "rule_power": _num, "kappa": _num, "rosette": _one("rosette"),
+        "enrichment": _str, "enrich_radius": _num, "ramp": _str, "ramp_inner": _num,
+        "tip_order": _int}),
 }
 
 

@@ -31,8 +31,9 @@ class Neighbours:
     idx : ndarray, shape (n_points, k), int
         Node indices; entries where ``mask`` is False are 0 (a valid index, unused).
     mask : ndarray, shape (n_points, k), bool
-        True for nodes whose support contains the point (strictly: d < d_mI),
-        valid entries first in each row.
+        True for nodes whose support contains the point (strictly: d < d_mI).
+        The search puts the valid entries first in each row; a crack rule
+        may clear entries anywhere.
     """
 
     idx: np.ndarray

@@ -21,7 +21,8 @@ class Solution:
     Attributes
     ----------
     disc : Discretization
-    coeffs : ndarray, shape (2 n_functions,)
+    coeffs : ndarray, shape (n_dofs,)
+        2 per node (interleaved), then the enrichment unknowns.
     info : dict
         Solver information (solver, residual, iterations).
     timings : dict
@@ -63,14 +64,15 @@ class Solution:
 
     def displacement(self, x=None) -> np.ndarray:
         """Displacement at points ``x (n, 2)`` (default: the quadrature points), shape (n, 2)."""
-        sh = self._fields(x, derivatives=False)
-        return np.column_stack([sh.phi @ self.coeffs[0::2], sh.phi @ self.coeffs[1::2]])
+        return self._fields(x, derivatives=False).displacement(self.coeffs)
+
+    def gradient(self, x=None) -> np.ndarray:
+        """Displacement gradient du_i/dx_j at points ``x (n, 2)``, shape (n, 2, 2)."""
+        return self._fields(x, derivatives=True).gradient(self.coeffs)
 
     def strain(self, x=None) -> np.ndarray:
         """Strain (xx, yy, xy engineering) at points ``x (n, 2)``, shape (n, 3)."""
-        sh = self._fields(x, derivatives=True)
-        ux, uy = self.coeffs[0::2], self.coeffs[1::2]
-        return np.column_stack([sh.dx @ ux, sh.dy @ uy, sh.dy @ ux + sh.dx @ uy])
+        return self._fields(x, derivatives=True).strain(self.coeffs)
 
     def stress(self, x=None) -> np.ndarray:
         """Stress (xx, yy, xy) at points ``x (n, 2)``, shape (n, 3)."""

@@ -10,7 +10,6 @@ import time
 
 import numpy as np
 
-from .approx.mls import mls_shape
 from .assemble import load_vector, stiffness
 from .constraints import (
     Dirichlet,
@@ -23,16 +22,15 @@ from .constraints import (
 from .discretize import (
     Discretization,
     boundary_segments_for,
+    crack_mouths,
     discretize,
-    edge_rule,
     essential_nodes,
     support_edges,
 )
 from .linalg import solve as linear_solve
 from .methods import EFG
-from .quadrature import boundary_points
+from .quadrature import boundary_points, edge_rule
 from .scene import Scene, evaluate_component, evaluate_vector
-from .search import find_neighbours
 from .solution import Solution
 
 __all__ = ["solve", "loads", "essential_conditions", "DEFAULT_PENALTY", "DEFAULT_STABILISATION"]
@@ -45,24 +43,17 @@ DEFAULT_PENALTY = 1e3
 DEFAULT_STABILISATION = 1e2  # beta h / E of the Nitsche term in the variational method
 
 
-def _shape(disc: Discretization, x, derivatives):
-    m = disc.method
-    nb = find_neighbours(x, disc.nodes, disc.boxes)
-    return mls_shape(x, disc.nodes, m.weight, m.basis, d_max=m.d_max, alpha=m.alpha,
-                     derivatives=derivatives, neighbours=nb, interpolate=disc.interpolate)
-
-
 def loads(disc: Discretization) -> np.ndarray:
-    """External force vector from tractions and body force, shape (2 n_nodes,)."""
+    """External force vector from tractions and body force, shape (n_dofs,)."""
     scene, m = disc.scene, disc.method
-    f = np.zeros(2 * disc.nodes.n)
+    f = np.zeros(disc.n_dofs)
     order = max(m.order, 2)
     for tr in scene.tractions:
-        pts = boundary_points(scene.domain, tr.edge, order, m.spacing)
+        pts = boundary_points(scene.domain, tr.edge, order, m.spacing, crack_mouths(scene))
         if pts.n == 0:
             continue
         t = evaluate_vector(tr.t, pts.x, pts.normal, scene.material)
-        f += load_vector(_shape(disc, pts.x, False), pts.w, t)
+        f += load_vector(disc.shape_at(pts.x, derivatives=False), pts.w, t)
     if scene.body_force is not None:
         b = evaluate_vector(scene.body_force, disc.points.x, np.zeros_like(disc.points.x),
                             scene.material)
@@ -71,13 +62,26 @@ def loads(disc: Discretization) -> np.ndarray:
 
 
 def essential_conditions(disc: Discretization, derivatives: bool) -> Dirichlet:
-    """Prescribed displacements sampled by a Gauss rule on the supported edges."""
+    """Prescribed displacements sampled by a Gauss rule on the supported edges.
+
+    Each edge is cut into :func:`boundary_segments_for` equal pieces (and at
+    crack mouths), which carry the Gauss points and the Lagrange-multiplier
+    hats. Where two constrained edges meet, only the first keeps a hat at the
+    corner: two multipliers at one corner over-constrain it (on the singular
+    patch of seed 003 Sect. 5.6.1, 9 x 9 nodes, all edges prescribed, the
+    energy error was 0.65 against 0.26 for penalty and Nitsche). The second
+    edge's end piece takes the linear extrapolation of its neighbour piece's
+    multiplier, so linear tractions stay exact.
+    """
     scene, m = disc.scene, disc.method
     parts, seg0, hat0 = [], 0, 0
+    mouths = crack_mouths(scene)
+    corner_comps: dict[tuple, set] = {}  # components constrained at each edge end so far
+    tol = 1e-9 * scene.domain.size
     for sup in scene.supports:
         for e in support_edges(scene.domain, sup.edge):
-            nseg = boundary_segments_for(e, disc.nodes, m.spacing)
-            x, w, nrm, seg, t = edge_rule(e, nseg, max(m.order, 2))
+            hat = np.linspace(0.0, 1.0, boundary_segments_for(e, disc.nodes, m.spacing) + 1)
+            x, w, nrm, s = edge_rule(e, hat, max(m.order, 2), mouths)
             keep = np.ones(len(x), bool) if isinstance(sup.edge, str) else np.asarray(
                 sup.edge(x), bool)
             fixed = np.zeros((len(x), 2), bool)
@@ -86,17 +90,33 @@ def essential_conditions(disc: Discretization, derivatives: bool) -> Dirichlet:
                 if v is not None:
                     fixed[:, c] = keep
                     value[:, c] = evaluate_component(v, x, c, scene.material)
-            seg_nodes = hat0 + np.column_stack([np.arange(nseg), np.arange(1, nseg + 1)])
+            nhat = len(hat) - 1
+            seg = np.clip(np.searchsorted(hat, s, side="right") - 1, 0, nhat - 1)
+            comps = {c for c, v in enumerate((sup.ux, sup.uy)) if v is not None}
+            new_seg = seg.copy()
+            spare = nhat - 1  # end pieces that may still borrow a neighbour's multiplier
+            for j, end in ((0, e.start), (nhat - 1, e.end)):
+                key = tuple(np.round(end / tol).astype(np.int64))
+                if corner_comps.get(key, set()) & comps and spare > 0:
+                    # Another constrained edge already has a multiplier at this corner; two
+                    # there over-constrain it (unstable). This edge's end piece takes the
+                    # linear extrapolation of its neighbour piece's multiplier instead.
+                    new_seg[seg == j] = 1 if j == 0 else nhat - 2
+                    spare -= 1
+                corner_comps.setdefault(key, set()).update(comps)
+            seg = new_seg
+            t = (s - hat[seg]) / (hat[seg + 1] - hat[seg])  # outside [0, 1] if extrapolated
+            seg_nodes = hat0 + np.column_stack([np.arange(nhat), np.arange(1, nhat + 1)])
             parts.append((x, w, nrm, fixed, value, seg + seg0, t, seg_nodes))
-            seg0 += nseg
-            hat0 += nseg + 1
+            seg0 += nhat
+            hat0 += nhat + 1
     if not parts:
         x = np.zeros((0, 2))
-        return Dirichlet(x, np.zeros(0), x, _shape(disc, x, derivatives), np.zeros((0, 2), bool),
+        return Dirichlet(x, np.zeros(0), x, disc.shape_at(x, derivatives), np.zeros((0, 2), bool),
                          x, np.zeros(0, int), np.zeros(0), np.zeros((0, 2), int))
     cat = [np.concatenate([p[i] for p in parts]) for i in range(8)]
     x = cat[0]
-    return Dirichlet(x, cat[1], cat[2], _shape(disc, x, derivatives), cat[3], cat[4], cat[5],
+    return Dirichlet(x, cat[1], cat[2], disc.shape_at(x, derivatives), cat[3], cat[4], cat[5],
                      cat[6], cat[7])
 
 
@@ -149,12 +169,6 @@ def solve(scene: Scene, method: EFG, disc: Discretization | None = None) -> Solu
     >>> round(float(sol.displacement([[2.0, 0.5]])[0, 0]), 6)   # sigma L / E = 0.002
     0.002
     """
-    if scene.cracks:
-        raise NotImplementedError(
-            f"scene {scene.name!r} has {len(scene.cracks)} crack(s), but this version has no crack "
-            "rules yet (visibility, diffraction, ...): solving would ignore the crack. Remove the "
-            "cracks or wait for the crack module."
-        )
     t_all = time.perf_counter()
     disc = discretize(scene, method) if disc is None else disc
     timings = dict(disc.timings)
@@ -181,8 +195,9 @@ def solve(scene: Scene, method: EFG, disc: Discretization | None = None) -> Solu
             system = modified_variational(K, f, bc, mat.D, beta, disc.nodes.x)
     timings["constraints"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    z, info = linear_solve(system, m.solver, near_nullspace=rigid_body_modes(disc.nodes.x),
-                           discretization=disc, stiffness=K)
+    modes = np.zeros((disc.n_dofs, 3))
+    modes[: 2 * disc.nodes.n] = rigid_body_modes(disc.nodes.x)
+    z, info = linear_solve(system, m.solver, near_nullspace=modes, discretization=disc, stiffness=K)
     timings["solve"] = time.perf_counter() - t0
     timings["total"] = time.perf_counter() - t_all + sum(disc.timings.values())
     return Solution(disc, system.coefficients(z), info, timings)

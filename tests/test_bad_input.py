@@ -128,15 +128,6 @@ def test_unknown_scene_file_key_names_nearest(tmp_path):
         load_scene(p)
 
 
-def test_cracked_scene_is_refused_not_silently_wrong():
-    from efgkit import Crack
-
-    scene = Scene(SQUARE, MAT, supports=(Support("left", ux=0.0, uy=0.0),),
-                  cracks=(Crack(np.array([[0.0, 0.5], [0.5, 0.5]]), (False, True)),))
-    with pytest.raises(NotImplementedError, match="no crack rules yet"):
-        solve(scene, EFG(spacing=0.25))
-
-
 def test_fields_outside_the_body_are_refused():
     scene = Scene(Domain.rectangle(0, 0, 1, 1, holes=[Loop.circle([0.5, 0.5], 0.2)]), MAT,
                   supports=(Support("left", ux=0.0, uy=0.0),))

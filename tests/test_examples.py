@@ -17,10 +17,6 @@ ENERGY_BOUND = {"kirsch": 0.03, "cantilever": 0.02}
 @pytest.mark.parametrize("path", EXAMPLES, ids=[p.stem for p in EXAMPLES])
 def test_shipped_scene_runs(path):
     scene, method = load_study(path)
-    if scene.cracks:
-        with pytest.raises(NotImplementedError, match="no crack rules yet"):
-            solve(scene, method)
-        return
     sol = solve(scene, method)
     assert sol.info["residual"] < 1e-8
     if scene.exact is not None:

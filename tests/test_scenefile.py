@@ -166,6 +166,12 @@ EFG_VALUES = {  # key: (TOML value, its value in efg_to_dict)
     "order": ("3", 3), "refined_order": ("8", 8), "cell_size": ("0.05", 0.05),
     "bc": ('"variational"', "variational"), "penalty": ("50.0", 50.0),
     "solver": ('"direct"', "direct"),
+    "crack_rule": ('"transparency"', "transparency"), "rule_power": ("3.0", 3.0),
+    "kappa": ("0.25", 0.25),
+    "rosette": ("{ radius = 0.3, rings = 3, per_ring = 13 }",
+                {"radius": 0.3, "rings": 3, "per_ring": 13}),
+    "enrichment": ('"full"', "full"), "enrich_radius": ("0.5", 0.5),
+    "ramp": ('"linear"', "linear"), "ramp_inner": ("0.05", 0.05), "tip_order": ("10", 10),
 }
 
 

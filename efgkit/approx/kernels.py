@@ -87,8 +87,18 @@ def _invert(A, inv, m):
     return 1.0 / (na * ni)
 
 
+@njit(cache=True, inline="always")
+def _pair_weight(q, a, dx, dy, r, wid, beta, wg, wgx, wgy):
+    """(w, dw/dx, dw/dy) of pair (q, a): computed from the distance, or given (crack rules)."""
+    if wg.shape[0] > 0:
+        return wg[q, a], wgx[q, a], wgy[q, a]
+    wa, ga = _weight(wid, np.sqrt(dx * dx + dy * dy) / r, beta)
+    f = -ga / (r * r)
+    return wa, f * dx, f * dy
+
+
 @njit(cache=True, parallel=True)
-def mls_padded(x, nx, radius, idx, mask, wid, beta, bid, derivatives):
+def mls_padded(x, nx, radius, idx, mask, wid, beta, bid, derivatives, wg, wgx, wgy):
     """MLS on padded neighbour arrays (see :func:`efgkit.approx.mls.mls_shape`).
 
     Parameters
@@ -97,6 +107,7 @@ def mls_padded(x, nx, radius, idx, mask, wid, beta, bid, derivatives):
     idx, mask : (n, k) padded neighbours
     wid, bid : weight and basis ids; beta : Gaussian d_max / alpha
     derivatives : bool
+    wg, wgx, wgy : (n, k) given weights and derivatives (crack rules), or (0, 0) arrays
 
     Returns
     -------
@@ -129,11 +140,8 @@ def mls_padded(x, nx, radius, idx, mask, wid, beta, bid, derivatives):
             I = idx[q, a]
             X = nx[I, 0] - x[q, 0]
             Y = nx[I, 1] - x[q, 1]
-            r = radius[I]
-            wa, ga = _weight(wid, np.sqrt(X * X + Y * Y) / r, beta)
-            w[a] = wa
-            dwx[a] = -ga * X / (r * r)
-            dwy[a] = -ga * Y / (r * r)
+            w[a], dwx[a], dwy[a] = _pair_weight(q, a, X, Y, radius[I], wid, beta, wg, wgx, wgy)
+            wa = w[a]
             _basis(bid, X / scale, Y / scale, P[a])
             for i in range(m):
                 for j in range(m):
@@ -181,7 +189,7 @@ def mls_padded(x, nx, radius, idx, mask, wid, beta, bid, derivatives):
 
 
 @njit(cache=True, parallel=True)
-def mls_linear(x, nx, radius, idx, mask, wid, beta, derivatives):
+def mls_linear(x, nx, radius, idx, mask, wid, beta, derivatives, wg, wgx, wgy):
     """:func:`mls_padded` for the linear basis, written out for speed.
 
     The moment matrices are symmetric 3 x 3, so only their six distinct sums
@@ -212,8 +220,7 @@ def mls_linear(x, nx, radius, idx, mask, wid, beta, derivatives):
             I = idx[q, a]
             dx = nx[I, 0] - xq
             dy = nx[I, 1] - yq
-            r = radius[I]
-            wa, ga = _weight(wid, np.sqrt(dx * dx + dy * dy) / r, beta)
+            wa, wx, wy = _pair_weight(q, a, dx, dy, radius[I], wid, beta, wg, wgx, wgy)
             X = dx * inv_s
             Y = dy * inv_s
             a0 += wa
@@ -223,9 +230,6 @@ def mls_linear(x, nx, radius, idx, mask, wid, beta, derivatives):
             a12 += wa * X * Y
             a22 += wa * Y * Y
             if derivatives:
-                f = -ga / (r * r)
-                wx = f * dx
-                wy = f * dy
                 b0 += wx
                 b1 += wx * X
                 b2 += wx * Y
@@ -284,14 +288,12 @@ def mls_linear(x, nx, radius, idx, mask, wid, beta, derivatives):
             I = idx[q, a]
             dx = nx[I, 0] - xq
             dy = nx[I, 1] - yq
-            r = radius[I]
-            wa, ga = _weight(wid, np.sqrt(dx * dx + dy * dy) / r, beta)
+            wa, wx, wy = _pair_weight(q, a, dx, dy, radius[I], wid, beta, wg, wgx, wgy)
             X = dx * inv_s
             Y = dy * inv_s
             pg = g0 + g1 * X + g2 * Y
             phi[q, a] = wa * pg
             if derivatives:
-                f = -ga / (r * r)
-                gx[q, a] = f * dx * pg + wa * (hx0 + hx1 * X + hx2 * Y)
-                gy[q, a] = f * dy * pg + wa * (hy0 + hy1 * X + hy2 * Y)
+                gx[q, a] = wx * pg + wa * (hx0 + hx1 * X + hx2 * Y)
+                gy[q, a] = wy * pg + wa * (hy0 + hy1 * X + hy2 * Y)
     return phi, gx, gy, rcond

@@ -24,78 +24,21 @@ whose support holds such a node take this path.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from functools import cached_property
-
 import numpy as np
-from scipy.sparse import csr_array
 
 from ..nodes import NodeCloud
 from ..search import Neighbours, find_neighbours
 from .bases import basis, basis_origin_gradient, basis_size
-from .weights import weight_function
+from .shape import Shape
+from .weights import pair_weights, weight_function
 
-__all__ = ["Shape", "SingularMomentMatrix", "mls_shape", "RCOND_MIN"]
+__all__ = ["SingularMomentMatrix", "mls_shape", "moment_shape", "RCOND_MIN"]
 
 RCOND_MIN = 1e-10  # reciprocal 1-norm condition number below which A counts as singular
 
 
 class SingularMomentMatrix(ValueError):  # noqa: N818 (names the condition, like LinAlgError)
     """The moment matrix at a point is singular or too ill-conditioned to trust."""
-
-
-@dataclass(frozen=True, eq=False)
-class Shape:
-    """Shape functions at points: padded arrays, and sparse operators built on demand.
-
-    Attributes
-    ----------
-    neighbours : Neighbours
-        ``idx, mask (n_points, k)``: the functions non-zero at each point.
-    values, ddx, ddy : ndarray, shape (n_points, k)
-        phi_I, d phi_I / dx, d phi_I / dy for the neighbours (0 where masked);
-        ``ddx``/``ddy`` are None when derivatives were not asked for.
-    n_functions : int
-        Number of columns of the operators (nodes, later enrichment functions).
-
-    The operators ``phi``, ``dx``, ``dy`` are csr_array (n_points, n_functions):
-    ``shape.phi @ coeffs`` evaluates a field at the points.
-    """
-
-    neighbours: Neighbours
-    values: np.ndarray
-    ddx: np.ndarray | None
-    ddy: np.ndarray | None
-    n_functions: int
-
-    @property
-    def shape(self) -> tuple[int, int]:
-        return (len(self.values), self.n_functions)
-
-    def _op(self, vals: np.ndarray | None) -> csr_array:
-        if vals is None:
-            raise ValueError("derivatives were not computed: call mls_shape(..., derivatives=True)")
-        nb = self.neighbours
-        counts = nb.counts
-        indptr = np.zeros(len(counts) + 1, dtype=np.int64)
-        np.cumsum(counts, out=indptr[1:])
-        if counts.min(initial=0) == nb.idx.shape[1]:  # every row full: no masking needed
-            data, cols = vals.ravel(), nb.idx.ravel()
-        else:
-            data, cols = vals[nb.mask], nb.idx[nb.mask]
-        return csr_array((data, cols, indptr), shape=self.shape)
-
-    @cached_property
-    def phi(self) -> csr_array:
-        return self._op(self.values)
-
-    @cached_property
-    def dx(self) -> csr_array:
-        return self._op(self.ddx)
-
-    @cached_property
-    def dy(self) -> csr_array:
-        return self._op(self.ddy)
 
 
 def _inv_rcond(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -137,40 +80,68 @@ def _raise_singular(x, rows, rcond, counts, offset, remedy=""):
     )
 
 
-def _mls_chunk(x, nodes, nb, wfun, bname, derivatives, interp, offset):
-    """Values and derivatives on padded arrays (n, k) for one chunk of points."""
+def moment_shape(w, dw, P, p0, dp0):
+    """The gamma scheme of seed 003 Eqs. (13)-(17) for any basis, on padded arrays.
+
+    Parameters
+    ----------
+    w : ndarray (n, k)
+        Weights of the neighbours (0 where masked).
+    dw : ndarray (n, k, 2) or None
+        Their derivatives with respect to the evaluation point.
+    P : ndarray (n, k, m)
+        Basis at the neighbours, ``p(x_I)`` (any basis spanning the same space:
+        shifted and scaled).
+    p0 : ndarray (n, m)
+        Basis at the evaluation point.
+    dp0 : ndarray (n, 2, m) or None
+        Its derivatives.
+
+    Returns
+    -------
+    phi, dphidx, dphidy : ndarray (n, k) (derivatives None without ``dw``)
+    rcond : ndarray (n,)
+        Reciprocal 1-norm condition numbers of the moment matrices.
+    """
+    A = np.einsum("nk,nki,nkj->nij", w, P, P)
+    inv, rcond = _inv_rcond(A)
+    gamma = np.einsum("nij,nj->ni", inv, p0)  # A gamma = p(x), Eq. (15)
+    Pg = np.einsum("nki,ni->nk", P, gamma)
+    phi = w * Pg
+    if dw is None:
+        return phi, None, None, rcond
+    out = []
+    for c in range(2):  # A gamma_,c = p_,c - A_,c gamma, Eq. (17)
+        A_c = np.einsum("nk,nki,nkj->nij", dw[..., c], P, P)
+        gamma_c = np.einsum("nij,nj->ni", inv, dp0[:, c, :] - np.einsum("nij,nj->ni", A_c, gamma))
+        out.append(dw[..., c] * Pg + w * np.einsum("nki,ni->nk", P, gamma_c))
+    return phi, out[0], out[1], rcond
+
+
+def _mls_chunk(x, nodes, nb, wfun, bname, derivatives, interp, offset, given=None):
+    """Values and derivatives on padded arrays (n, k) for one chunk of points.
+
+    ``given``: (w, dwx, dwy) padded weights of the crack rules, else computed.
+    """
     m = basis_size(bname)
-    X = nodes.x[nb.idx] - x[:, None, :]  # x_I - x, (n, k, 2)
-    r = nodes.radius[nb.idx]
-    s = np.sqrt((X**2).sum(-1)) / r
-    w, g = wfun(s)
-    w = np.where(nb.mask, w, 0.0)
-    scale = np.where(nb.mask, r, 0.0).max(axis=1)  # (n,)
+    if given is None:
+        w, dw = pair_weights(x, nodes, nb, wfun, derivatives)
+    else:
+        w, dw = given[0], np.stack(given[1:], axis=-1) if derivatives else None
+    X = nodes.x[nb.idx] - x[:, None, :]
+    scale = np.where(nb.mask, nodes.radius[nb.idx], 0.0).max(axis=1)  # (n,)
     P = basis(bname, X / scale[:, None, None])  # (n, k, m)
     gp = basis_origin_gradient(bname) / scale[:, None, None]  # (n, 2, m)
-    if derivatives:  # dw/dx = g(s) (x - x_I) / r^2
-        dw = np.where(nb.mask[..., None], -g[..., None] * X / (r**2)[..., None], 0.0)
     is_b = interp[nb.idx] & nb.mask if interp is not None else None
     if is_b is not None and is_b.any():
-        return _modified_chunk(x, nb, w, dw if derivatives else None, P, gp, is_b, m, offset)
-    Pw = P * w[..., None]
-    A = np.einsum("nki,nkj->nij", Pw, P)
-    inv, rcond = _inv_rcond(A)
+        return _modified_chunk(x, nb, w, dw, P, gp, is_b, m, offset)
+    p0 = np.zeros((len(x), m))
+    p0[:, 0] = 1.0  # p(0) = e_1 in the shifted basis
+    phi, gx, gy, rcond = moment_shape(w, dw, P, p0, gp)
     bad = np.flatnonzero(rcond < RCOND_MIN)
     if len(bad):
         _raise_singular(x, bad, rcond, nb.counts, offset)
-    gamma = inv[:, :, 0]  # A^-1 p(0), p(0) = e_1
-    Pg = np.einsum("nki,ni->nk", P, gamma)
-    phi = w * Pg
-    if not derivatives:
-        return phi, None, None
-    out = []
-    for c in range(2):
-        A_c = np.einsum("nk,nki,nkj->nij", dw[..., c], P, P)
-        rhs = gp[:, c, :] - np.einsum("nij,nj->ni", A_c, gamma)
-        gamma_c = np.einsum("nij,nj->ni", inv, rhs)
-        out.append(dw[..., c] * Pg + w * np.einsum("nki,ni->nk", P, gamma_c))
-    return phi, out[0], out[1]
+    return phi, gx, gy
 
 
 def _modified_chunk(x, nb, w, dw, P, gp, is_b, m, offset):
@@ -218,7 +189,7 @@ def _modified_chunk(x, nb, w, dw, P, gp, is_b, m, offset):
 def mls_shape(x: np.ndarray, nodes: NodeCloud, weight: str = "quartic", basis: str = "linear",
               *, d_max: float = 2.0, alpha: float = 0.5, derivatives: bool = True,
               neighbours: Neighbours | None = None, interpolate: np.ndarray | None = None,
-              backend: str = "numba", chunk: int = 32768) -> Shape:
+              weights: tuple | None = None, backend: str = "numba", chunk: int = 32768) -> Shape:
     """MLS shape functions of ``nodes`` at points ``x (n_points, 2)``.
 
     Parameters
@@ -235,6 +206,9 @@ def mls_shape(x: np.ndarray, nodes: NodeCloud, weight: str = "quartic", basis: s
         Precomputed neighbour lists (found if not given).
     interpolate : ndarray (n_nodes,) bool, optional
         Nodes with the Kronecker-delta property (seed 002 modified MLS).
+    weights : (mask, w, dwx, dwy), optional
+        Padded pair weights of a crack rule (:func:`efgkit.approx.crack_rules.crack_weights`),
+        each (n_points, k) like ``neighbours``; ``mask`` replaces the neighbours' mask.
     backend : {"numba", "numpy"}
         Compiled kernel (:mod:`efgkit.approx.kernels`) or the plain-numpy
         reference; they agree to 1e-12. Points of the modified MLS always use
@@ -264,6 +238,10 @@ def mls_shape(x: np.ndarray, nodes: NodeCloud, weight: str = "quartic", basis: s
     if x.ndim != 2 or x.shape[1] != 2:
         raise ValueError(f"x must have shape (n_points, 2), got {x.shape}")
     nb = find_neighbours(x, nodes) if neighbours is None else neighbours
+    given = None
+    if weights is not None:
+        nb = Neighbours(nb.idx, weights[0])
+        given = tuple(np.ascontiguousarray(a, dtype=float) for a in weights[1:])
     lonely = nb.counts < basis_size(basis)
     if interpolate is not None:  # the bordered system's own check covers these points
         lonely &= ~(interpolate[nb.idx] & nb.mask).any(axis=1)
@@ -287,12 +265,14 @@ def mls_shape(x: np.ndarray, nodes: NodeCloud, weight: str = "quartic", basis: s
 
         sub = nb if plain is None else nb.subset(plain)
         xs = x if plain is None else x[plain]
+        wg = [np.zeros((0, 0))] * 3 if given is None else [
+            g if plain is None else g[plain] for g in given]
         if basis == "linear":
             res = mls_linear(xs, nodes.x, nodes.radius, sub.idx, sub.mask, WEIGHT_IDS[weight],
-                             d_max / alpha, derivatives)
+                             d_max / alpha, derivatives, *wg)
         else:
             res = mls_padded(xs, nodes.x, nodes.radius, sub.idx, sub.mask, WEIGHT_IDS[weight],
-                             d_max / alpha, BASIS_IDS[basis], derivatives)
+                             d_max / alpha, BASIS_IDS[basis], derivatives, *wg)
         bad = np.flatnonzero(~(res[3] >= RCOND_MIN))
         if len(bad):
             _raise_singular(xs, bad, res[3], sub.counts, 0)
@@ -309,7 +289,8 @@ def mls_shape(x: np.ndarray, nodes: NodeCloud, weight: str = "quartic", basis: s
         todo = np.arange(len(x))
     for s in range(0, len(todo), chunk):
         sl = todo[s:s + chunk]
-        res = _mls_chunk(x[sl], nodes, nb.subset(sl), wfun, basis, derivatives, interpolate, s)
+        res = _mls_chunk(x[sl], nodes, nb.subset(sl), wfun, basis, derivatives, interpolate, s,
+                         None if given is None else [g[sl] for g in given])
         for v, r in zip(vals, res, strict=True):
             if r is not None:
                 v[sl] = r

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["weight_function", "quartic", "cubic", "gaussian"]
+__all__ = ["weight_function", "pair_weights", "quartic", "cubic", "gaussian"]
 
 
 def quartic(s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -62,3 +62,19 @@ def weight_function(name: str, d_max: float = 2.0, alpha: float = 0.5):
         beta = d_max / alpha
         return lambda s: gaussian(s, beta)
     raise ValueError(f"weight must be one of ('quartic', 'gaussian', 'cubic'), got {name!r}")
+
+
+def pair_weights(x: np.ndarray, nodes, nb, wfun, derivatives: bool = True):
+    """Weights of the (point, neighbour) pairs from the distances.
+
+    ``x (n, 2)``, ``nb`` padded neighbours (n, k); returns ``w (n, k)`` and
+    ``dw (n, k, 2)`` with ``dw/dx = g(s) (x - x_I) / d_mI^2`` (None without
+    derivatives), 0 where masked.
+    """
+    X = nodes.x[nb.idx] - x[:, None, :]  # x_I - x, (n, k, 2)
+    r = nodes.radius[nb.idx]
+    w, g = wfun(np.sqrt((X**2).sum(-1)) / r)
+    w = np.where(nb.mask, w, 0.0)
+    if not derivatives:
+        return w, None
+    return w, np.where(nb.mask[..., None], -g[..., None] * X / (r**2)[..., None], 0.0)

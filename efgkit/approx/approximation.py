@@ -1,0 +1,154 @@
+"""The trial functions of an EFG discretisation, evaluated at any points.
+
+:class:`Approximation` binds the node cloud and its search structure to the
+choices of the method (weight, basis, crack rule, enrichment) and turns points
+into a :class:`~efgkit.approx.shape.Shape`. Each point takes the cheapest path
+that is exact for it:
+
+1. points whose neighbours' supports reach no crack: the compiled MLS kernel
+   with weights from distances (a scene without cracks only takes this path);
+2. points near a crack: the crack rule's pair weights
+   (:mod:`efgkit.approx.crack_rules`), then the same kernel;
+3. points within the ramp radius of a tip (intrinsic enrichment): the
+   enriched moment matrices, blended with 1. or 2. by the ramp;
+4. enrichment unknowns (extrinsic MLS, PU): component operators from the
+   nodal functions and the tip functions.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..nodes import NodeCloud
+from ..search import BoxGrid, Neighbours, find_neighbours
+from .crack_rules import CrackLines, CrackRule, crack_weights
+from .enrichment import Enrichment, blend_intrinsic, extra_columns
+from .mls import mls_shape
+from .shape import Shape
+from .weights import pair_weights, weight_function
+
+__all__ = ["Approximation"]
+
+
+@dataclass(frozen=True, eq=False)
+class Approximation:
+    """MLS trial functions of a node cloud under a crack rule and an enrichment.
+
+    Attributes
+    ----------
+    nodes : NodeCloud
+    boxes : BoxGrid
+        Neighbour-search structure of ``nodes``.
+    weight, basis : str
+    d_max, alpha : float
+    spacing : float
+        The nominal spacing (a length scale for tolerances).
+    interpolate : ndarray (n_nodes,) bool, optional
+        Modified-MLS interpolation nodes (seed 002).
+    lines : CrackLines, optional
+        The scene's cracks (None: no crack tests at all).
+    rule : CrackRule, optional
+    enrichment : Enrichment, optional
+    """
+
+    nodes: NodeCloud
+    boxes: BoxGrid
+    weight: str = "quartic"
+    basis: str = "linear"
+    d_max: float = 2.0
+    alpha: float = 0.5
+    spacing: float = 1.0
+    interpolate: np.ndarray | None = None
+    lines: CrackLines | None = None
+    rule: CrackRule | None = None
+    enrichment: Enrichment | None = None
+
+    @property
+    def n_dofs(self) -> int:
+        return 2 * self.nodes.n + (0 if self.enrichment is None else self.enrichment.n_extra)
+
+    def _mls(self, x, nb, derivatives, weights=None) -> Shape:
+        return mls_shape(x, self.nodes, self.weight, self.basis, d_max=self.d_max, alpha=self.alpha,
+                         derivatives=derivatives, neighbours=nb, interpolate=self.interpolate,
+                         weights=weights)
+
+    def cracked_rows(self, x: np.ndarray, nb: Neighbours) -> np.ndarray:
+        """Points whose neighbours' supports reach a crack (the only ones a rule can change)."""
+        if self.lines is None or len(x) == 0:
+            return np.zeros(0, np.int64)
+        reach = np.where(nb.mask, self.nodes.radius[nb.idx], 0.0).max(axis=1)
+        return np.flatnonzero(self.lines.distance(x) < reach)
+
+    def weights(self, x: np.ndarray, nb: Neighbours, derivatives: bool = True):
+        """Pair weights at ``x (n, 2)`` under the crack rule: mask, w (n, k), dw (n, k, 2)."""
+        wfun = weight_function(self.weight, self.d_max, self.alpha)
+        mask = nb.mask.copy()
+        w, dw = pair_weights(x, self.nodes, nb, wfun, derivatives)
+        rows = self.cracked_rows(x, nb)
+        if len(rows):
+            m, wc, dwx, dwy = crack_weights(x[rows], self.nodes, nb.subset(rows), self.lines,
+                                            self.rule, wfun)
+            mask[rows], w[rows] = m, wc
+            if derivatives:
+                dw[rows] = np.stack([dwx, dwy], axis=-1)
+        return mask, w, dw
+
+    def shape(self, x: np.ndarray, derivatives: bool = True) -> Shape:
+        """Shape functions (and the enrichment operators) at points ``x (n, 2)``.
+
+        Examples
+        --------
+        >>> from efgkit import EFG, Domain
+        >>> from efgkit.nodes import generate_nodes
+        >>> nodes = generate_nodes(Domain.rectangle(0, 0, 1, 1), EFG(spacing=0.25))
+        >>> sh = Approximation(nodes, BoxGrid.build(nodes)).shape(np.array([[0.3, 0.7]]))
+        >>> round(float(sh.phi.sum()), 12)
+        1.0
+        """
+        x = np.atleast_2d(np.asarray(x, dtype=float))
+        if x.ndim != 2 or x.shape[1] != 2:
+            raise ValueError(f"x must have shape (n_points, 2), got {x.shape}")
+        nb = find_neighbours(x, self.nodes, self.boxes)
+        rows = self.cracked_rows(x, nb)
+        if len(rows) == 0:
+            sh = self._mls(x, nb, derivatives)
+            mask, vals = nb.mask, [sh.values, sh.ddx, sh.ddy]
+        else:
+            mask = nb.mask.copy()
+            vals = [np.zeros(nb.idx.shape) if derivatives or i == 0 else None for i in range(3)]
+            plain = np.setdiff1d(np.arange(len(x)), rows)
+            if len(plain):
+                sp = self._mls(x[plain], nb.subset(plain), derivatives)
+                for v, r in zip(vals, (sp.values, sp.ddx, sp.ddy), strict=True):
+                    if v is not None:
+                        v[plain] = r
+            wfun = weight_function(self.weight, self.d_max, self.alpha)
+            cw = crack_weights(x[rows], self.nodes, nb.subset(rows), self.lines, self.rule, wfun)
+            sc = self._mls(x[rows], nb.subset(rows), derivatives, weights=cw)
+            mask[rows] = cw[0]
+            for v, r in zip(vals, (sc.values, sc.ddx, sc.ddy), strict=True):
+                if v is not None:
+                    v[rows] = r
+        nb = Neighbours(nb.idx, mask)
+        enr = self.enrichment
+        if enr is not None and enr.kind in ("radial", "full"):
+            tip, dist = enr.nearest_tip(x)
+            for t in range(len(enr.tips)):
+                near = np.flatnonzero((tip == t) & (dist < enr.r2))
+                if len(near) == 0:
+                    continue
+                sub = nb.subset(near)
+                m, w, dw = self.weights(x[near], Neighbours(sub.idx, sub.mask), derivatives)
+                lin = [None if v is None else v[near] for v in vals]
+                out = blend_intrinsic(x[near], self.nodes, Neighbours(sub.idx, m), w, dw, lin, enr, t,
+                                      self.basis, derivatives)
+                for v, r in zip(vals, out, strict=True):
+                    if v is not None:
+                        v[near] = r
+        extra = None
+        if enr is not None and enr.n_extra:
+            extra = extra_columns(x, nb, vals[0], vals[1], vals[2], enr, derivatives, self.spacing)
+        return Shape(nb, vals[0], vals[1] if derivatives else None,
+                     vals[2] if derivatives else None, self.nodes.n, extra)

@@ -1,0 +1,282 @@
+"""How node supports see cracks: visibility, diffraction, transparency, see-through.
+
+A crack cuts the line of sight between a node x_I and a point x when the
+segment [x_I, x] crosses one of its segments (seed 003 Sect. 2.2, 4). The
+rules differ in what a crossing does to the weight w(d_I / d_mI):
+
+* ``visibility`` (Sect. 4.1): the pair is cut (w = 0).
+* ``diffraction`` (Sect. 4.2, Eqs. 29-31): the distance is lengthened around
+  the tip x_c of the crossed crack, ``d_I = ((s1 + s2) / s0)^lambda s0`` with
+  ``s0 = |x - x_I|``, ``s1 = |x_I - x_c|``, ``s2 = |x - x_c|``.
+* ``transparency`` (Sect. 4.3, Eqs. 32-34): ``d_I = s0 + d_mI (s_c / sbar_c)^lambda``
+  with s_c the distance along the crack from its tip to the crossing point
+  and ``sbar_c = kappa h``; crossings with ``s_c >= sbar_c`` cut the pair.
+* ``see_through`` (Sect. 4.4, continuous-line criterion): a crossing cuts the
+  pair unless the node's support contains a tip of the crossed crack.
+
+Conventions that make every test deterministic:
+
+* a point on a crack line is on the segment's left face
+  (:meth:`efgkit.crack.Crack.side`);
+* a crack segment is open at a tip: a ray through the tip itself does not
+  cross, so a node at the tip sees every point of its support;
+* nodes split on a crack (``NodeCloud.face``, ``face_segment``) are on the
+  face their sign says, for the segment they lie on;
+* nodes within ``1e-7 d_mI`` of a tip are taken to be at the tip, so that a
+  tip moved by a tiny amount across a node changes nothing.
+
+Seed 003 prints ds_c/dx_i as -cos(theta), -sin(theta) (Eq. 34, text below it),
+which ignores that the crossing point moves along the crack when x moves; the
+derivative used here is the exact one (tested against finite differences).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..nodes import NodeCloud
+from ..search import Neighbours
+
+__all__ = ["CRACK_RULES", "CrackLines", "CrackRule", "crack_weights"]
+
+CRACK_RULES = ("visibility", "diffraction", "transparency", "see_through")
+TIP_SNAP = 1e-7  # nodes closer than this fraction of their support radius to a tip are at it
+
+
+@dataclass(frozen=True)
+class CrackRule:
+    """A crack rule and its parameters.
+
+    Parameters
+    ----------
+    name : {"visibility", "diffraction", "transparency", "see_through"}
+    power : float
+        lambda of Eq. (29) (diffraction, seed: 1 or 2) or Eq. (32)
+        (transparency, >= 2).
+    kappa : float
+        Transparency: opaque at ``s_c = kappa h`` behind the tip (Eq. 33).
+    spacing : float
+        h of Eq. (33).
+    """
+
+    name: str = "visibility"
+    power: float = 2.0
+    kappa: float = 0.5
+    spacing: float = 1.0
+
+    def __post_init__(self):
+        if self.name not in CRACK_RULES:
+            raise ValueError(f"crack rule must be one of {CRACK_RULES}, got {self.name!r}")
+        for key in ("power", "kappa", "spacing"):
+            v = getattr(self, key)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v) or v <= 0:
+                raise ValueError(f"crack rule {key} must be finite and > 0, got {v!r}")
+        if self.name == "transparency" and self.power < 2:
+            raise ValueError(f"transparency needs power (lambda) >= 2 (seed 003 Eq. 32), got {self.power!r}")
+
+
+@dataclass(frozen=True, eq=False)
+class CrackLines:
+    """All crack segments of a scene as arrays (segment index = global order).
+
+    Attributes
+    ----------
+    a, b : ndarray (m, 2)
+        Segment ends, in polyline order.
+    crack : ndarray (m,) int
+        Crack of each segment (cracks in scene order, so ``crack`` is sorted).
+    start, length : ndarray (m,)
+        Arc length of ``a`` from the crack's first vertex, and segment length.
+    ends : ndarray (n_cracks, 2, 2)
+        First and last vertex of every crack.
+    is_tip : ndarray (n_cracks, 2) bool
+        Which of those ends are tips.
+    total : ndarray (n_cracks,)
+        Crack lengths.
+    """
+
+    a: np.ndarray
+    b: np.ndarray
+    crack: np.ndarray
+    start: np.ndarray
+    length: np.ndarray
+    ends: np.ndarray
+    is_tip: np.ndarray
+    total: np.ndarray
+
+    @classmethod
+    def from_cracks(cls, cracks) -> CrackLines:
+        seg = [c.segments for c in cracks]
+        ln = [np.linalg.norm(s[:, 1] - s[:, 0], axis=1) for s in seg]
+        return cls(np.concatenate([s[:, 0] for s in seg]), np.concatenate([s[:, 1] for s in seg]),
+                   np.concatenate([np.full(len(s), k) for k, s in enumerate(seg)]),
+                   np.concatenate([np.cumsum(v) - v for v in ln]), np.concatenate(ln),
+                   np.array([[c.vertices[0], c.vertices[-1]] for c in cracks]),
+                   np.array([c.tips for c in cracks], bool), np.array([v.sum() for v in ln]))
+
+    @property
+    def n(self) -> int:
+        return len(self.a)
+
+    def distance(self, x: np.ndarray) -> np.ndarray:
+        """Distance of points ``x (n, 2)`` to the nearest crack segment, shape (n,)."""
+        out = np.full(len(x), np.inf)
+        for a, b in zip(self.a, self.b, strict=True):
+            ab = b - a
+            t = np.clip((x - a) @ ab / (ab @ ab), 0.0, 1.0)
+            out = np.minimum(out, np.hypot(*(x - a - t[:, None] * ab).T))
+        return out
+
+    def tip_positions(self) -> np.ndarray:
+        """Positions of all tips, shape (n_tips, 2)."""
+        return self.ends[self.is_tip]
+
+
+def _cross(u, v):
+    return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
+
+
+def _crossings(xq, xn, lines: CrackLines, s: int, node_face):
+    """Whether [x_I, x] crosses segment ``s``, and the crossing parameter t with dt/dx.
+
+    ``xq, xn (P, 2)``; ``node_face (P,)`` int: the node's face on this segment
+    (+-1) or 0. Returns hit (P,), t (P,), dt (P, 2).
+    """
+    a, b = lines.a[s], lines.b[s]
+    e = b - a
+    side_x = np.where(_cross(e, xq - a) >= 0, 1, -1)
+    side_n = np.where(node_face != 0, node_face, np.where(_cross(e, xn - a) >= 0, 1, -1))
+    v = xq - xn
+    num = _cross(xn - a, v)
+    den = _cross(e, v)
+    ok = den != 0
+    t = np.where(ok, num / np.where(ok, den, 1.0), (xq - a) @ e / (e @ e))
+    # dt/dx for t = num / den, num and den linear in v = x - x_I
+    dnum = np.stack([-(xn - a)[:, 1], (xn - a)[:, 0]], axis=1)
+    dden = np.array([-e[1], e[0]])
+    dt = np.where(ok[:, None], (dnum * den[:, None] - num[:, None] * dden)
+                  / np.where(ok, den, 1.0)[:, None] ** 2, 0.0)
+    k = lines.crack[s]
+    first, last = s == 0 or lines.crack[s - 1] != k, s == lines.n - 1 or lines.crack[s + 1] != k
+    lo = (t > 0) if (first and lines.is_tip[k, 0]) else (t >= 0)  # open at a tip
+    hi = (t < 1) if (last and lines.is_tip[k, 1]) else (t <= 1)
+    return (side_x != side_n) & lo & hi, t, dt
+
+
+def _arc_from_tip(lines: CrackLines, s: int, t):
+    """Distance along the crack from its nearest tip to parameter t of segment s, and its
+    derivative with respect to t."""
+    k = lines.crack[s]
+    arc = lines.start[s] + t * lines.length[s]
+    d0 = arc if lines.is_tip[k, 0] else np.full_like(arc, np.inf)
+    d1 = lines.total[k] - arc if lines.is_tip[k, 1] else np.full_like(arc, np.inf)
+    near0 = d0 <= d1
+    return np.where(near0, d0, d1), np.where(near0, lines.length[s], -lines.length[s])
+
+
+def crack_weights(x: np.ndarray, nodes: NodeCloud, nb: Neighbours, lines: CrackLines,
+                  rule: CrackRule, wfun):
+    """Weights of the (point, neighbour) pairs of ``x`` under a crack rule.
+
+    Parameters
+    ----------
+    x : ndarray (n, 2)
+        Points.
+    nodes : NodeCloud
+        With ``face`` and ``face_segment`` for nodes split on a crack (or None).
+    nb : Neighbours
+        ``idx, mask (n, k)`` before the crack is taken into account.
+    lines : CrackLines
+    rule : CrackRule
+    wfun : callable
+        ``s -> (w, w'(s) / s)`` (:func:`efgkit.approx.weights.weight_function`).
+
+    Returns
+    -------
+    mask : ndarray (n, k) bool
+        Pairs that still see each other.
+    w, dwx, dwy : ndarray (n, k)
+        Weights and their derivatives with respect to x (0 where masked):
+        ``dw/dx = w'(d / d_m) / d_m * dd/dx`` (Eq. 30).
+    """
+    rows, cols = np.nonzero(nb.mask)
+    I = nb.idx[rows, cols]
+    xq, xn, dm = x[rows], nodes.x[I], nodes.radius[I]
+    # nodes at a tip (to within TIP_SNAP d_m) sit exactly on it for the sight tests
+    sight = xn.copy()
+    for tip in lines.tip_positions():
+        near = np.hypot(*(xn - tip).T) < TIP_SNAP * dm
+        sight[near] = tip
+    face = np.zeros(len(I), np.int64) if nodes.face is None else nodes.face[I]
+    fseg = np.full(len(I), -1) if nodes.face_segment is None else nodes.face_segment[I]
+    n_cracks = len(lines.ends)
+    hits = np.zeros((len(I), n_cracks), np.int64)
+    sc = np.full(len(I), np.inf)  # transparency: arc distance of the crossing from the tip
+    dsc = np.zeros((len(I), 2))
+    for s in range(lines.n):
+        hit, t, dt = _crossings(xq, sight, lines, s, np.where(fseg == s, face, 0))
+        if not hit.any():
+            continue
+        hits[:, lines.crack[s]] += hit
+        if rule.name == "transparency":
+            arc, darc = _arc_from_tip(lines, s, t)
+            take = hit & (arc < sc)
+            sc = np.where(take, arc, sc)
+            dsc = np.where(take[:, None], darc[:, None] * dt, dsc)
+    n_hit = hits.sum(axis=1)
+    diff = xq - xn
+    s0 = np.hypot(*diff.T)
+    ds0 = diff / np.where(s0 > 0, s0, 1.0)[:, None]
+    d, dd = s0.copy(), ds0.copy()
+    cut = n_hit > 0
+    if rule.name == "visibility":
+        pass
+    elif rule.name == "see_through":
+        for k in range(n_cracks):
+            for end in np.flatnonzero(lines.is_tip[k]):
+                inside = np.hypot(*(xn - lines.ends[k, end]).T) < dm
+                cut &= ~((hits[:, k] > 0) & inside & (n_hit == hits[:, k]))
+    elif rule.name == "transparency":
+        one = (n_hit == 1) & (sc < rule.kappa * rule.spacing)
+        sbar = rule.kappa * rule.spacing
+        ratio = np.where(one, sc / sbar, 0.0)
+        d = np.where(one, s0 + dm * ratio**rule.power, d)
+        grad = rule.power * dm * np.where(one, ratio ** (rule.power - 1) / sbar, 0.0)
+        dd = np.where(one[:, None], ds0 + grad[:, None] * dsc, dd)
+        cut &= ~one
+    else:  # diffraction around the tip of the crossed crack
+        single = n_hit == 1
+        k = np.argmax(hits, axis=1)
+        best = np.full(len(I), np.inf)
+        xc = np.zeros_like(xq)
+        for end in (0, 1):
+            is_tip = lines.is_tip[k, end]
+            tip = lines.ends[k, end]
+            path = np.hypot(*(sight - tip).T) + np.hypot(*(xq - tip).T)
+            take = single & is_tip & (path < best)
+            best = np.where(take, path, best)
+            xc = np.where(take[:, None], tip, xc)
+        ok = single & np.isfinite(best)
+        s1 = np.hypot(*(xn - xc).T)
+        v2 = xq - xc
+        s2 = np.hypot(*v2.T)
+        ds2 = v2 / np.where(s2 > 0, s2, 1.0)[:, None]
+        ratio = np.where(ok, (s1 + s2) / np.where(s0 > 0, s0, 1.0), 1.0)
+        lam = rule.power
+        d = np.where(ok, ratio**lam * s0, d)
+        dd = np.where(ok[:, None], lam * ratio[:, None] ** (lam - 1) * ds2
+                      + (1 - lam) * ratio[:, None] ** lam * ds0, dd)
+        cut &= ~ok
+    sn = d / dm
+    wv, g = wfun(np.where(cut, 1.0, sn))
+    dw = (g * sn / dm)[:, None] * dd  # w'(s) / d_m * dd/dx, with g = w'(s) / s
+    keep = ~cut & (wv > 0)
+    mask = np.zeros_like(nb.mask)
+    w, dwx, dwy = (np.zeros(nb.mask.shape) for _ in range(3))
+    mask[rows, cols] = keep
+    w[rows, cols] = np.where(keep, wv, 0.0)
+    dwx[rows, cols] = np.where(keep, dw[:, 0], 0.0)
+    dwy[rows, cols] = np.where(keep, dw[:, 1], 0.0)
+    return mask, w, dwx, dwy

@@ -1,0 +1,251 @@
+"""Crack-tip enrichment of the MLS approximation (seed 003 Sect. 5).
+
+* ``radial`` / ``full`` (intrinsic, Sects. 5.3, 5.4): the basis is extended by
+  sqrt(r) (Eq. 52) or by the four near-tip functions (Eq. 50) within the ramp
+  radius r2 of a tip, and the enriched functions are blended with the linear
+  ones, ``phi = R phi_enr + (1 - R) phi_lin`` (Eqs. 53-56). No unknowns are
+  added; the 5- or 7-term moment matrices are formed only where R > 0 (they
+  go singular tens of spacings away from the tip).
+* ``extrinsic_mls`` (Sect. 5.1, Eq. 46): ``u = sum phi_I u_I + sum_tips
+  (k1 Q1(x) + k2 Q2(x))`` with the Williams fields Q of unit K_I and K_II
+  (Eq. 38), so the solve returns K_I and K_II of every tip; optionally ramped.
+* ``pu`` (Sect. 5.2, Eq. 49): every node whose support comes within the PU
+  radius of a tip carries four more vector unknowns b_Ii multiplying
+  ``phi_I (q_i(x) - q_i(x_I))`` (the branch functions, shifted by their nodal
+  values so that the added functions vanish at the node and stay small).
+
+Branch functions, tip coordinates (with the kinked-crack mapping) and ramps
+are in :mod:`efgkit.approx.tip_functions`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.sparse import csr_array
+
+from .bases import basis as poly_basis
+from .bases import basis_origin_gradient, basis_size
+from .mls import RCOND_MIN, SingularMomentMatrix, moment_shape
+from .shape import Extra
+from .tip_functions import TipGeometry, branch_functions, ramp, tip_coordinates, williams_modes
+
+__all__ = ["Enrichment", "blend_intrinsic", "extra_columns"]
+
+_INTRINSIC = {"radial": "radial", "full": "full"}
+
+
+@dataclass(frozen=True, eq=False)
+class Enrichment:
+    """An enrichment of the approximation of a cracked scene.
+
+    Attributes
+    ----------
+    kind : {"radial", "full", "extrinsic_mls", "pu"}
+    tips : tuple of TipGeometry
+    r1, r2 : float
+        Ramp radii (intrinsic, ramped extrinsic); ``r2 = inf``: no ramp.
+    ramp : {"linear", "quintic"}
+    mu, kappa : float
+        Shear modulus and Kolosov constant of the Williams fields (extrinsic MLS).
+    pu_nodes : ndarray (n_pu,) int
+        Enriched nodes (PU), each enriched by the tip ``pu_tip``.
+    pu_tip : ndarray (n_pu,) int
+    pu_values : ndarray (n_pu, 4)
+        Branch functions at the enriched nodes (the shift of Eq. 49's functions).
+    """
+
+    kind: str
+    tips: tuple[TipGeometry, ...]
+    r1: float
+    r2: float
+    ramp: str
+    mu: float = 1.0
+    kappa: float = 2.0
+    pu_nodes: np.ndarray | None = None
+    pu_tip: np.ndarray | None = None
+    pu_values: np.ndarray | None = None
+
+    @property
+    def n_extra(self) -> int:
+        """Enrichment unknowns: 2 per tip (extrinsic MLS), 8 per enriched node (PU)."""
+        if self.kind == "extrinsic_mls":
+            return 2 * len(self.tips)
+        if self.kind == "pu":
+            return 8 * len(self.pu_nodes)
+        return 0
+
+    @classmethod
+    def build(cls, kind, tips, nodes, material, r1, r2, ramp_kind, pu_radius) -> Enrichment:
+        """The enrichment of ``kind`` for ``tips`` (TipGeometry) on ``nodes``."""
+        tips = tuple(tips)
+        if kind in _INTRINSIC or (kind == "extrinsic_mls" and np.isfinite(r2)):
+            xs = np.array([g.tip.x for g in tips])
+            for i in range(len(tips)):
+                for j in range(i + 1, len(tips)):
+                    if np.hypot(*(xs[i] - xs[j])) < 2 * r2:
+                        raise ValueError(
+                            f"the enrichment discs (radius enrich_radius = {r2:g}) of tips "
+                            f"{tips[i].tip.id} and {tips[j].tip.id} overlap; give a smaller "
+                            "enrich_radius (each point is enriched by one tip)")
+        if kind != "pu":
+            return cls(kind, tips, r1, r2, ramp_kind, material.mu, material.kappa)
+        near = np.full(nodes.n, -1)
+        best = np.full(nodes.n, np.inf)
+        for t, g in enumerate(tips):
+            d = np.hypot(*(nodes.x - g.tip.x).T)
+            take = (d < nodes.radius + pu_radius) & (d < best)
+            near, best = np.where(take, t, near), np.where(take, d, best)
+        sel = np.flatnonzero(near >= 0)
+        vals = np.zeros((len(sel), 4))
+        for t, g in enumerate(tips):
+            on = near[sel] == t
+            side = None if nodes.face is None else nodes.face[sel[on]]
+            r, th, gr, gt = tip_coordinates(nodes.x[sel[on]], g, side)
+            vals[on] = branch_functions(r, th, gr, gt, "full")[0]
+        return cls(kind, tips, r1, r2, ramp_kind, material.mu, material.kappa, sel, near[sel], vals)
+
+    def nearest_tip(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Index of the nearest tip and the distance to it, for points ``x (n, 2)``."""
+        d = np.stack([np.hypot(*(x - g.tip.x).T) for g in self.tips], axis=1)
+        k = np.argmin(d, axis=1)
+        return k, d[np.arange(len(x)), k]
+
+
+def _check_off_tip(x, r, geom: TipGeometry, scale: float):
+    bad = np.flatnonzero(r <= 1e-12 * scale)
+    if len(bad):
+        raise ValueError(
+            f"point {x[bad[0]].tolist()} is at crack tip {geom.tip.id}: the enriched gradient is "
+            "singular there; evaluate fields off the tip")
+
+
+def blend_intrinsic(x, nodes, nb, w, dw, lin, enr: Enrichment, tip: int, basis: str,
+                    derivatives: bool):
+    """Intrinsically enriched and ramped shape functions at points near tip ``tip``.
+
+    Parameters
+    ----------
+    x : ndarray (n, 2)
+        Points within r2 of the tip.
+    nodes : NodeCloud
+    nb : Neighbours
+        Their neighbours (after the crack rule).
+    w : ndarray (n, k); dw : ndarray (n, k, 2) or None
+        Pair weights (after the crack rule).
+    lin : tuple of (n, k) arrays
+        phi, dphi/dx, dphi/dy of the polynomial basis (the ``(1 - R)`` part).
+    enr : Enrichment
+    tip : int
+    basis : str
+        The polynomial basis extended by the branch functions.
+
+    Returns
+    -------
+    phi, dphidx, dphidy : ndarray (n, k) (derivatives None if not asked)
+    """
+    geom = enr.tips[tip]
+    scale = np.where(nb.mask, nodes.radius[nb.idx], 0.0).max(axis=1)  # (n,)
+    r, th, gr, gt = tip_coordinates(x, geom)
+    if derivatives:
+        _check_off_tip(x, r, geom, float(scale.max()))
+    F0, dF0 = branch_functions(r, th, gr, gt, enr.kind)
+    used = np.unique(nb.idx[nb.mask])
+    side = None if nodes.face is None else nodes.face[used]
+    rn, tn, grn, gtn = tip_coordinates(nodes.x[used], geom, side)
+    Fn = np.zeros((nodes.n, F0.shape[1]))
+    Fn[used] = branch_functions(rn, tn, grn, gtn, enr.kind)[0]
+    sq = np.sqrt(scale)[:, None, None]
+    X = (nodes.x[nb.idx] - x[:, None, :]) / scale[:, None, None]
+    P = np.concatenate([poly_basis(basis, X), (Fn[nb.idx] - F0[:, None, :]) / sq], axis=2)
+    P = np.where(nb.mask[..., None], P, 0.0)
+    m0 = basis_size(basis)
+    p0 = np.zeros((len(x), P.shape[2]))
+    p0[:, 0] = 1.0
+    dp0 = np.concatenate([basis_origin_gradient(basis)[None] / scale[:, None, None], dF0 / sq],
+                         axis=2)
+    phi, gx, gy, rcond = moment_shape(w, dw, P, p0, dp0)
+    bad = np.flatnonzero(~(rcond >= RCOND_MIN))
+    if len(bad):
+        k = bad[np.argmin(rcond[bad])]
+        raise SingularMomentMatrix(
+            f"the {enr.kind}-enriched moment matrix ({P.shape[2]} terms, {m0} polynomial) is "
+            f"singular (rcond = {rcond[k]:.2e}) at point {x[k].tolist()} near tip {geom.tip.id} "
+            f"with {int(nb.counts[k])} neighbour(s). Remedy: enlarge d_max, use the diffraction or "
+            "transparency rule, or reduce enrich_radius")
+    R, dR = ramp(r, gr, enr.r1, enr.r2, enr.ramp)
+    out_phi = R[:, None] * phi + (1 - R[:, None]) * lin[0]
+    if not derivatives:
+        return out_phi, None, None
+    diff = phi - lin[0]
+    return (out_phi,
+            R[:, None] * gx + (1 - R[:, None]) * lin[1] + diff * dR[:, 0:1],
+            R[:, None] * gy + (1 - R[:, None]) * lin[2] + diff * dR[:, 1:2])
+
+
+def _ops(n, rows, cols, vals, n_extra):
+    return csr_array((vals, (rows, cols)), shape=(n, n_extra))
+
+
+def extra_columns(x, nb, values, ddx, ddy, enr: Enrichment, derivatives: bool,
+                  scale: float) -> Extra:
+    """The enrichment unknowns' component operators at points ``x (n, 2)``.
+
+    ``nb``, ``values``, ``ddx``, ``ddy`` are the nodal shape functions at x
+    (padded); ``scale`` is a length (the spacing) for the at-the-tip check.
+    """
+    n = len(x)
+    ne = enr.n_extra
+    if enr.kind == "extrinsic_mls":
+        parts = {key: ([], [], []) for key in ("ux", "uy", "gxx", "gxy", "gyx", "gyy")}
+        for t, g in enumerate(enr.tips):
+            r, th, gr, gt = tip_coordinates(x, g)
+            rows = np.arange(n) if not np.isfinite(enr.r2) else np.flatnonzero(r < enr.r2)
+            if derivatives:
+                _check_off_tip(x[rows], r[rows], g, scale)
+            F, dF = branch_functions(r[rows], th[rows], gr[rows], gt[rows], "full")
+            Q, dQ = williams_modes(F, dF, g, enr.mu, enr.kappa)
+            if np.isfinite(enr.r2):
+                R, dR = ramp(r[rows], gr[rows], enr.r1, enr.r2, enr.ramp)
+                dQ = R[:, None, None, None] * dQ + Q[..., None] * dR[:, None, None, :]
+                Q = R[:, None, None] * Q
+            for mode in (0, 1):
+                col = np.full(len(rows), 2 * t + mode)
+                for key, v in (("ux", Q[:, mode, 0]), ("uy", Q[:, mode, 1]),
+                               ("gxx", dQ[:, mode, 0, 0]), ("gxy", dQ[:, mode, 0, 1]),
+                               ("gyx", dQ[:, mode, 1, 0]), ("gyy", dQ[:, mode, 1, 1])):
+                    parts[key][0].append(rows)
+                    parts[key][1].append(col)
+                    parts[key][2].append(v)
+        ops = {k: _ops(n, *(np.concatenate(p) for p in v), ne) for k, v in parts.items()}
+    else:  # PU: functions phi_I (q_i(x) - q_i(x_I)) of the enriched nodes
+        where = np.full(max(int(nb.idx.max(initial=0)), int(enr.pu_nodes.max(initial=0))) + 1, -1)
+        where[enr.pu_nodes] = np.arange(len(enr.pu_nodes))
+        q, a = np.nonzero(nb.mask & (where[nb.idx] >= 0))
+        j = where[nb.idx[q, a]]
+        F = np.zeros((len(q), 4))
+        dF = np.zeros((len(q), 2, 4))
+        for t, g in enumerate(enr.tips):
+            on = enr.pu_tip[j] == t
+            if not on.any():
+                continue
+            r, th, gr, gt = tip_coordinates(x[q[on]], g)
+            if derivatives:
+                _check_off_tip(x[q[on]], r, g, scale)
+            F[on], dF[on] = branch_functions(r, th, gr, gt, "full")
+        shifted = F - enr.pu_values[j]
+        psi = values[q, a][:, None] * shifted  # (m, 4)
+        col = 8 * j[:, None] + 2 * np.arange(4)[None, :]  # x-component unknowns
+        qq = np.repeat(q, 4)
+        ops = {"ux": _ops(n, qq, col.ravel(), psi.ravel(), ne),
+               "uy": _ops(n, qq, col.ravel() + 1, psi.ravel(), ne)}
+        if derivatives:
+            for c, (name_x, name_y) in enumerate((("gxx", "gyx"), ("gxy", "gyy"))):
+                dphi = (ddx if c == 0 else ddy)[q, a]
+                dpsi = dphi[:, None] * shifted + values[q, a][:, None] * dF[:, c, :]
+                ops[name_x] = _ops(n, qq, col.ravel(), dpsi.ravel(), ne)
+                ops[name_y] = _ops(n, qq, col.ravel() + 1, dpsi.ravel(), ne)
+    if not derivatives:
+        return Extra(ops["ux"], ops["uy"])
+    return Extra(ops["ux"], ops["uy"], ops["gxx"], ops["gxy"], ops["gyx"], ops["gyy"])
