@@ -86,6 +86,8 @@ class Crack:
         growing from its last vertex.
     name : str
         Unique within a scene; names the crack in errors and results.
+    pressure : float
+        Uniform pressure on both faces (stress unit; > 0 pushes them apart).
 
     Raises
     ------
@@ -107,6 +109,7 @@ class Crack:
     vertices: np.ndarray
     tips: tuple[bool, bool] = (True, True)
     name: str = "crack"
+    pressure: float = 0.0
 
     def __post_init__(self):
         v = np.asarray(self.vertices, dtype=float)
@@ -129,8 +132,13 @@ class Crack:
         if not any(tips):
             raise ValueError(f"crack {self.name!r}: no tip (tips = (False, False)); a crack "
                              "needs at least one free end inside the body")
+        if isinstance(self.pressure, bool) or not isinstance(self.pressure, (int, float, np.number)) \
+                or not math.isfinite(self.pressure):
+            raise ValueError(f"crack {self.name!r}: pressure must be a finite number, got "
+                             f"{self.pressure!r}")
         object.__setattr__(self, "vertices", v)
         object.__setattr__(self, "tips", tips)
+        object.__setattr__(self, "pressure", float(self.pressure))
         self._check_simple(v, scale)
 
     def _check_simple(self, v, scale):
@@ -193,6 +201,19 @@ class Crack:
         new = t.x + da * np.array([math.cos(t.angle + angle), math.sin(t.angle + angle)])
         v = np.vstack([self.vertices, new]) if end == 1 else np.vstack([new, self.vertices])
         return replace(self, vertices=v)
+
+    def points_along(self, arc: np.ndarray, end: int = 0) -> tuple[np.ndarray, np.ndarray]:
+        """Points at arc lengths ``arc (m,)`` from vertex ``end`` (0: first, 1: last), and the
+        unit left normal of the segment each lies on (left of the polyline's direction)."""
+        v = self.vertices if end == 0 else self.vertices[::-1]
+        ln = np.linalg.norm(np.diff(v, axis=0), axis=1)
+        cum = np.concatenate([[0.0], np.cumsum(ln)])
+        arc = np.clip(np.asarray(arc, dtype=float), 0.0, cum[-1])
+        k = np.clip(np.searchsorted(cum, arc, side="right") - 1, 0, len(ln) - 1)
+        d = (v[k + 1] - v[k]) / ln[k, None]
+        x = v[k] + (arc - cum[k])[:, None] * d
+        left = np.column_stack([-d[:, 1], d[:, 0]])
+        return x, (left if end == 0 else -left)
 
     def side(self, x: np.ndarray, segment: int) -> np.ndarray:
         """+1 on the left face of segment ``segment`` (or on its line), -1 on the right; (n,)."""

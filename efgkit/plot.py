@@ -171,7 +171,7 @@ def plot_domain_dependence(results, ax=None):
     Parameters
     ----------
     results : TipResult or sequence of TipResult
-        From :func:`efgkit.fracture.integrals.tip_result`; each domain's
+        From :func:`efgkit.fracture.sif.tip_result`; each domain's
         values are drawn as markers joined by lines (K_I solid, K_II dashed)
         and the mean over the domains as a dotted level.
     ax : matplotlib Axes, optional
@@ -183,7 +183,8 @@ def plot_domain_dependence(results, ax=None):
     Examples
     --------
     >>> from efgkit.crack import Tip
-    >>> from efgkit.fracture.integrals import SIF, TipResult
+    >>> from efgkit.fracture.integrals import SIF
+    >>> from efgkit.fracture.sif import TipResult
     >>> doms = tuple(SIF(1.0, 1.0 + 0.01 * k, 0.0, 0.0, 1.0, 100, 0.1 * (k + 1)) for k in range(3))
     >>> res = TipResult(Tip(np.zeros(2), 0.0, "c", 1), 1.01, 0.0, 1.0, 0.0, 0.02, doms)
     >>> fig = plot_domain_dependence(res)

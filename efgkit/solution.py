@@ -74,6 +74,53 @@ class Solution:
         """Strain (xx, yy, xy engineering) at points ``x (n, 2)``, shape (n, 3)."""
         return self._fields(x, derivatives=True).strain(self.coeffs)
 
+    def tip_spacing(self, tip) -> float:
+        """The nodal spacing at a tip: c_I = d_mI / d_max of the node nearest to it."""
+        nodes = self.nodes
+        k = int(np.argmin(np.hypot(*(nodes.x - tip.x).T)))
+        return float(nodes.radius[k] / self.method.d_max)
+
+    def sifs(self, radii=None, q="wendland_c2", spread_tol: float = 0.01) -> tuple:
+        """K_I, K_II, J and T of every crack tip, from interaction integrals over domains.
+
+        The integrals (:mod:`efgkit.fracture.integrals`) run over the domain
+        quadrature points, with the crack-face pressure term when the crack
+        is pressurised; each tip's result is the mean over the domains with
+        its spread (:func:`efgkit.fracture.sif.tip_result`).
+
+        Parameters
+        ----------
+        radii : sequence of float, or callable ``tip -> radii``, optional
+            Domain radii (default: :func:`~efgkit.fracture.sif.default_radii`
+            with the spacing at the tip).
+        q : str or callable
+            q-function kind (see :class:`~efgkit.fracture.qfunctions.QFunction`).
+        spread_tol : float
+            Relative spread of K over the domains above which a warning is issued.
+
+        Returns
+        -------
+        tuple of TipResult, one per tip of ``scene.tips``.
+        """
+        from .fracture.sif import default_radii, face_loads, tip_result
+
+        x, w = self.disc.points.x, self.disc.points.w
+        grad = self.gradient()
+        stress = self.stress()
+        enr = self.disc.approx.enrichment
+        out = []
+        for k, tip in enumerate(self.scene.tips):
+            h = self.tip_spacing(tip)
+            rs = (radii(tip) if callable(radii) else radii) if radii is not None else \
+                default_radii(self.scene, tip, h)
+            faces = face_loads(self.scene, tip, max(rs), lambda xs, side: self.gradient(xs), h)
+            kk = None
+            if enr is not None and enr.kind == "extrinsic_mls":
+                kk = tuple(self.coeffs[2 * self.nodes.n + 2 * k: 2 * self.nodes.n + 2 * k + 2])
+            out.append(tip_result(self.scene, tip, x, w, stress, grad, rs, q=q, faces=faces,
+                                  spread_tol=spread_tol, enriched=kk))
+        return tuple(out)
+
     def stress(self, x=None) -> np.ndarray:
         """Stress (xx, yy, xy) at points ``x (n, 2)``, shape (n, 3)."""
         return self.strain(x) @ self.scene.material.D.T

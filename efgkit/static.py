@@ -6,6 +6,7 @@ derivatives at traction points.
 
 from __future__ import annotations
 
+import math
 import time
 
 import numpy as np
@@ -29,7 +30,7 @@ from .discretize import (
 )
 from .linalg import solve as linear_solve
 from .methods import EFG
-from .quadrature import boundary_points, edge_rule
+from .quadrature import boundary_points, edge_rule, gauss_legendre
 from .scene import Scene, evaluate_component, evaluate_vector
 from .solution import Solution
 
@@ -58,7 +59,30 @@ def loads(disc: Discretization) -> np.ndarray:
         b = evaluate_vector(scene.body_force, disc.points.x, np.zeros_like(disc.points.x),
                             scene.material)
         f += load_vector(disc.shape, disc.points.w, b)
+    for crack in scene.cracks:
+        if crack.pressure != 0.0:
+            for x, w, t in crack_face_loads(crack, m.spacing, order):
+                f += load_vector(disc.shape_at(x, derivatives=False), w, t)
     return f
+
+
+FACE_OFFSET = 1e-7  # face points sit this many spacings off the crack line, on their face
+
+
+def crack_face_loads(crack, h: float, order: int):
+    """Gauss rules on the two faces of a pressurised crack: [(x, w, traction)] per face.
+
+    A pressure p > 0 pushes each face into its material: traction ``+p n_left``
+    on the left face, ``-p n_left`` on the right. The points sit
+    :data:`FACE_OFFSET` spacings off the crack line on their face, so that
+    the shape functions are those of that face.
+    """
+    n = max(1, math.ceil(crack.length / h - 1e-9))
+    xi, gw = gauss_legendre(order)
+    arc = ((np.arange(n)[:, None] + (xi + 1) / 2) * crack.length / n).ravel()
+    w = np.tile(gw / 2 * crack.length / n, n)
+    x, left = crack.points_along(arc)
+    return [(x + sgn * FACE_OFFSET * h * left, w, sgn * crack.pressure * left) for sgn in (1, -1)]
 
 
 def essential_conditions(disc: Discretization, derivatives: bool) -> Dirichlet:

@@ -35,14 +35,12 @@ from efgkit.fracture.fields import (  # noqa: E402
 from efgkit.fracture.integrals import (  # noqa: E402
     SIF,
     FaceLoad,
-    TipResult,
-    default_radii,
     domain_integrals,
     k_from_j,
     nodal_volumes,
-    tip_result,
 )
 from efgkit.fracture.qfunctions import QFunction  # noqa: E402
+from efgkit.fracture.sif import TipResult, default_radii, tip_result  # noqa: E402
 from efgkit.geometry import Loop  # noqa: E402
 from efgkit.plot import plot_domain_dependence  # noqa: E402
 from efgkit.quadrature import cell_points  # noqa: E402
@@ -406,7 +404,7 @@ def test_result_record_and_json():
     res = tip_result(sc, tip, x, w, s, g, [1.0, 0.5, 0.7])
     assert isinstance(res, TipResult) and all(isinstance(d, SIF) for d in res.domains)
     d = json.loads(json.dumps(res.as_dict()))
-    assert list(d) == ["x", "y", "KI", "KII", "J", "T", "spread", "domains", "warnings"]
+    assert list(d) == ["id", "x", "y", "KI", "KII", "J", "T", "spread", "domains", "warnings"]
     assert (d["x"], d["y"]) == (1.0, 2.0) and [e["radius"] for e in d["domains"]] == [0.5, 0.7, 1.0]
     assert set(d["domains"][0]) == {"radius", "KI", "KII", "J", "T", "n_points"}
     with pytest.raises(AttributeError):
