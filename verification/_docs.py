@@ -78,6 +78,20 @@ def kirsch(r: dict) -> list[str]:
 SECTIONS = {"patch": ("Linear patch test", patch),
             "cantilever": ("Timoshenko cantilever", cantilever),
             "kirsch": ("Plate with a circular hole (Kirsch)", kirsch)}
+# Later scripts carry their own section: a module-level TITLE and markdown(record) -> lines.
+ORDER = ("patch", "cantilever", "kirsch", "crack_rules", "near_tip", "singular_patch",
+         "shear_edge_crack", "q_functions", "inclined", "fem_reference", "sent")
+
+
+def _section(name: str):
+    if name in SECTIONS:
+        return SECTIONS[name]
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(f"_v_{name}", ROOT / "verification" / f"{name}.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod.TITLE, mod.markdown
 
 
 def render() -> str:
@@ -86,16 +100,17 @@ def render() -> str:
              "`efgkit verify` writes to `verification/out/`. The test suite runs every script "
              "in quick mode (`tests/test_verification.py`).", "",
              "| script | passed | checks |", "|---|---|---|"]
+    names = [n for n in ORDER if (OUT / f"{n}.json").exists()]
+    names += sorted(p.stem for p in OUT.glob("*.json")
+                    if not p.stem.endswith("_quick") and p.stem not in names
+                    and (ROOT / "verification" / f"{p.stem}.py").exists())
     records = {}
-    for name in SECTIONS:
-        path = OUT / f"{name}.json"
-        if path.exists():
-            records[name] = json.loads(path.read_text())
-            r = records[name]
-            ok = sum(c["passed"] for c in r["checks"])
-            lines.append(f"| {name} | {'yes' if r['passed'] else 'NO'} | {ok}/{len(r['checks'])} |")
+    for name in names:
+        records[name] = r = json.loads((OUT / f"{name}.json").read_text())
+        ok = sum(c["passed"] for c in r["checks"])
+        lines.append(f"| {name} | {'yes' if r['passed'] else 'NO'} | {ok}/{len(r['checks'])} |")
     for name, r in records.items():
-        title, body = SECTIONS[name]
+        title, body = _section(name)
         lines += ["", f"## {title} (`{name}`)", "", *body(r), "", "References:", ""]
         lines += [f"- `{k}` = {v['value']}: {v['source']}" for k, v in r["reference"].items()]
         failed = [c for c in r["checks"] if not c["passed"]]
