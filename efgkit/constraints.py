@@ -184,6 +184,11 @@ def lagrange(K, f, bc: Dirichlet, node_x: np.ndarray) -> LinearSystem:
     q = N @ bc.value[pts, comps]
     used = np.flatnonzero(np.asarray(abs(G).sum(axis=1)).ravel() > 0)
     G, q = G[used], q[used]
+    # Scale the constraint rows like the stiffness: K ~ E and G ~ h otherwise differ by the
+    # modulus, and the residual check ||A z - b|| <= rtol ||b|| would weigh the tiny
+    # prescribed displacements against forces (the multipliers come out scaled; unused).
+    scale = abs(K).max() / max(abs(G).max(), np.finfo(float).tiny) if G.shape[0] else 1.0
+    G, q = csr_array(scale * G), scale * q
     A = csr_array(bmat([[K, G.T], [G, None]], format="csr"))
     return LinearSystem(A, np.concatenate([f, q]), spd=False, n_coeffs=K.shape[0])
 

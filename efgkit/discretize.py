@@ -17,6 +17,7 @@ import numpy as np
 from .approx.approximation import Approximation
 from .approx.crack_rules import CrackLines, CrackRule
 from .approx.enrichment import Enrichment
+from .approx.hole_rules import Holes
 from .approx.shape import Shape
 from .approx.tip_functions import TipGeometry
 from .geometry import Domain, Edge
@@ -214,8 +215,13 @@ def approximation(scene: Scene, method: EFG, nodes: NodeCloud,
     elif method.enrichment != "none":
         raise ValueError(f"enrichment={method.enrichment!r} needs a crack tip, but scene "
                          f"{scene.name!r} has no cracks; use enrichment='none'")
+    holes = Holes.of(scene.domain) if method.hole_rule != "see_through" and scene.domain.holes \
+        else None
+    if holes is not None and rule is None:
+        rule = CrackRule("diffraction", method.rule_power, method.kappa, method.spacing)
     return Approximation(nodes, BoxGrid.build(nodes), method.weight, method.basis, method.d_max,
-                         method.alpha, method.spacing, interpolate, lines, rule, enrichment)
+                         method.alpha, method.spacing, interpolate, lines, rule, enrichment,
+                         holes, method.hole_rule)
 
 
 def _warn_close_to_crack(nodes: NodeCloud, lines: CrackLines, h: float) -> None:

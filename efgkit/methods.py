@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 __all__ = ["EFG", "Zone", "Rosette", "WEIGHTS", "BASES", "BC_METHODS", "QUADRATURES", "SOLVERS",
-           "CRACK_RULES", "ENRICHMENTS", "RAMPS"]
+           "CRACK_RULES", "HOLE_RULES", "ENRICHMENTS", "RAMPS"]
 
 WEIGHTS = ("quartic", "gaussian", "cubic")
 BASES = ("linear", "quadratic")
@@ -20,6 +20,7 @@ BC_METHODS = ("penalty", "lagrange", "variational", "modified_mls")
 QUADRATURES = ("cells", "triangles")
 SOLVERS = ("auto", "direct", "amg")
 CRACK_RULES = ("visibility", "diffraction", "transparency", "see_through")
+HOLE_RULES = ("see_through", "visibility", "diffraction")
 ENRICHMENTS = ("none", "radial", "full", "extrinsic_mls", "pu")
 RAMPS = ("linear", "quintic")
 
@@ -133,6 +134,9 @@ class EFG:
         How supports see cracks (:mod:`efgkit.approx.crack_rules`).
     rule_power : float
         lambda of the diffraction (Eq. 29) or transparency (Eq. 32, >= 2) rule.
+    hole_rule : {"see_through", "visibility", "diffraction"}
+        How supports see holes (:mod:`efgkit.approx.hole_rules`); diffraction
+        wraps around the tangent point (seed 003 Sect. 4.2, Fig. 11b).
     kappa : float
         Transparency: opaque at kappa h behind the tip (Eq. 33).
     rosette : Rosette, optional
@@ -173,6 +177,7 @@ class EFG:
     solver: str = "auto"
     crack_rule: str = "diffraction"
     rule_power: float = 2.0
+    hole_rule: str = "see_through"
     kappa: float = 0.5
     rosette: Rosette | None = None
     enrichment: str = "none"
@@ -212,6 +217,7 @@ class EFG:
         if self.crack_rule == "transparency" and self.rule_power < 2:
             raise ValueError(f"crack_rule='transparency' needs rule_power >= 2 (seed 003 Eq. 32), "
                              f"got {self.rule_power!r}")
+        _choice("hole_rule", self.hole_rule, HOLE_RULES)
         _positive("kappa", self.kappa)
         if self.rosette is not None and not isinstance(self.rosette, Rosette):
             raise TypeError(f"rosette must be a Rosette, got {type(self.rosette).__name__}")

@@ -279,7 +279,8 @@ _SCHEMA: dict[str, tuple[type, tuple[str, ...], dict[str, Callable | None]]] = {
         "coordinates": _points, "d_max": _num, "weight": _str, "alpha": _num,
         "basis": _str, "quadrature": _str, "order": _int, "refined_order": _int,
         "cell_size": _num, "bc": _str, "penalty": _num, "solver": _str,
-        "crack_rule": _str, "rule_power": _num, "kappa": _num, "rosette": _one("rosette"),
+        "crack_rule": _str, "rule_power": _num, "hole_rule": _str, "kappa": _num,
+        "rosette": _one("rosette"),
         "enrichment": _str, "enrich_radius": _num, "ramp": _str, "ramp_inner": _num,
         "tip_order": _int}),
 }

@@ -167,7 +167,7 @@ EFG_VALUES = {  # key: (TOML value, its value in efg_to_dict)
     "bc": ('"variational"', "variational"), "penalty": ("50.0", 50.0),
     "solver": ('"direct"', "direct"),
     "crack_rule": ('"transparency"', "transparency"), "rule_power": ("3.0", 3.0),
-    "kappa": ("0.25", 0.25),
+    "kappa": ("0.25", 0.25), "hole_rule": ('"diffraction"', "diffraction"),
     "rosette": ("{ radius = 0.3, rings = 3, per_ring = 13 }",
                 {"radius": 0.3, "rings": 3, "per_ring": 13}),
     "enrichment": ('"full"', "full"), "enrich_radius": ("0.5", 0.5),

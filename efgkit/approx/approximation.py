@@ -7,8 +7,9 @@ that is exact for it:
 
 1. points whose neighbours' supports reach no crack: the compiled MLS kernel
    with weights from distances (a scene without cracks only takes this path);
-2. points near a crack: the crack rule's pair weights
-   (:mod:`efgkit.approx.crack_rules`), then the same kernel;
+2. points near a crack (or a hole, with a hole rule): the rules' pair weights
+   (:mod:`efgkit.approx.crack_rules`, :mod:`efgkit.approx.hole_rules`), then the
+   same kernel;
 3. points within the ramp radius of a tip (intrinsic enrichment): the
    enriched moment matrices, blended with 1. or 2. by the ramp;
 4. enrichment unknowns (extrinsic MLS, PU): component operators from the
@@ -23,8 +24,9 @@ import numpy as np
 
 from ..nodes import NodeCloud
 from ..search import BoxGrid, Neighbours, find_neighbours
-from .crack_rules import CrackLines, CrackRule, crack_weights
+from .crack_rules import CrackLines, CrackRule, crack_distances, padded_weights, pair_arrays
 from .enrichment import Enrichment, blend_intrinsic, extra_columns
+from .hole_rules import Holes, hole_distances
 from .mls import mls_shape
 from .shape import Shape
 from .weights import pair_weights, weight_function
@@ -51,6 +53,9 @@ class Approximation:
         The scene's cracks (None: no crack tests at all).
     rule : CrackRule, optional
     enrichment : Enrichment, optional
+    holes : Holes, optional
+        The domain's holes, when ``hole_rule`` is not "see_through".
+    hole_rule : {"see_through", "visibility", "diffraction"}
     """
 
     nodes: NodeCloud
@@ -64,6 +69,8 @@ class Approximation:
     lines: CrackLines | None = None
     rule: CrackRule | None = None
     enrichment: Enrichment | None = None
+    holes: Holes | None = None
+    hole_rule: str = "see_through"
 
     @property
     def n_dofs(self) -> int:
@@ -75,21 +82,42 @@ class Approximation:
                          weights=weights)
 
     def cracked_rows(self, x: np.ndarray, nb: Neighbours) -> np.ndarray:
-        """Points whose neighbours' supports reach a crack (the only ones a rule can change)."""
-        if self.lines is None or len(x) == 0:
+        """Points whose neighbours' supports reach a crack or a ruled hole (the only ones a
+        rule can change)."""
+        if (self.lines is None and self.holes is None) or len(x) == 0:
             return np.zeros(0, np.int64)
         reach = np.where(nb.mask, self.nodes.radius[nb.idx], 0.0).max(axis=1)
-        return np.flatnonzero(self.lines.distance(x) < reach)
+        near = np.zeros(len(x), bool)
+        if self.lines is not None:
+            near |= self.lines.distance(x) < reach
+        if self.holes is not None:
+            near |= self.holes.distance(x) < reach
+        return np.flatnonzero(near)
+
+    def sight_weights(self, x: np.ndarray, nb: Neighbours):
+        """Pair weights at ``x (n, 2)`` under the crack and hole rules: (mask, w, dwx, dwy),
+        padded (n, k) like ``nb`` (for points near cracks or holes)."""
+        wfun = weight_function(self.weight, self.d_max, self.alpha)
+        rows, cols, I, xq, xn, dm = pair_arrays(x, self.nodes, nb)
+        if self.lines is not None:
+            cut, d, dd = crack_distances(xq, xn, dm, I, self.nodes, self.lines, self.rule)
+        else:
+            diff = xq - xn
+            d = np.hypot(*diff.T)
+            cut, dd = np.zeros(len(d), bool), diff / np.where(d > 0, d, 1.0)[:, None]
+        if self.holes is not None:
+            power = self.rule.power if self.rule is not None else 2.0
+            cut, d, dd = hole_distances(xq, xn, cut, d, dd, self.holes, self.hole_rule, power)
+        return padded_weights(nb, rows, cols, cut, d, dd, dm, wfun)
 
     def weights(self, x: np.ndarray, nb: Neighbours, derivatives: bool = True):
-        """Pair weights at ``x (n, 2)`` under the crack rule: mask, w (n, k), dw (n, k, 2)."""
+        """Pair weights at ``x (n, 2)`` under the rules: mask, w (n, k), dw (n, k, 2)."""
         wfun = weight_function(self.weight, self.d_max, self.alpha)
         mask = nb.mask.copy()
         w, dw = pair_weights(x, self.nodes, nb, wfun, derivatives)
         rows = self.cracked_rows(x, nb)
         if len(rows):
-            m, wc, dwx, dwy = crack_weights(x[rows], self.nodes, nb.subset(rows), self.lines,
-                                            self.rule, wfun)
+            m, wc, dwx, dwy = self.sight_weights(x[rows], nb.subset(rows))
             mask[rows], w[rows] = m, wc
             if derivatives:
                 dw[rows] = np.stack([dwx, dwy], axis=-1)
@@ -124,8 +152,7 @@ class Approximation:
                 for v, r in zip(vals, (sp.values, sp.ddx, sp.ddy), strict=True):
                     if v is not None:
                         v[plain] = r
-            wfun = weight_function(self.weight, self.d_max, self.alpha)
-            cw = crack_weights(x[rows], self.nodes, nb.subset(rows), self.lines, self.rule, wfun)
+            cw = self.sight_weights(x[rows], nb.subset(rows))
             sc = self._mls(x[rows], nb.subset(rows), derivatives, weights=cw)
             mask[rows] = cw[0]
             for v, r in zip(vals, (sc.values, sc.ddx, sc.ddy), strict=True):

@@ -39,7 +39,8 @@ import numpy as np
 from ..nodes import NodeCloud
 from ..search import Neighbours
 
-__all__ = ["CRACK_RULES", "CrackLines", "CrackRule", "crack_weights"]
+__all__ = ["CRACK_RULES", "CrackLines", "CrackRule", "crack_distances", "crack_weights",
+           "pair_arrays", "padded_weights", "wrap_distance"]
 
 CRACK_RULES = ("visibility", "diffraction", "transparency", "see_through")
 TIP_SNAP = 1e-7  # nodes closer than this fraction of their support radius to a tip are at it
@@ -176,34 +177,33 @@ def _arc_from_tip(lines: CrackLines, s: int, t):
     return np.where(near0, d0, d1), np.where(near0, lines.length[s], -lines.length[s])
 
 
-def crack_weights(x: np.ndarray, nodes: NodeCloud, nb: Neighbours, lines: CrackLines,
-                  rule: CrackRule, wfun):
-    """Weights of the (point, neighbour) pairs of ``x`` under a crack rule.
+def wrap_distance(d, dd, xq, xn, xc, s0, ds0, lam: float, ok):
+    """Lengthen the distances ``d (P,)`` of pairs around wrap points ``xc (P, 2)``.
 
-    Parameters
-    ----------
-    x : ndarray (n, 2)
-        Points.
-    nodes : NodeCloud
-        With ``face`` and ``face_segment`` for nodes split on a crack (or None).
-    nb : Neighbours
-        ``idx, mask (n, k)`` before the crack is taken into account.
-    lines : CrackLines
-    rule : CrackRule
-    wfun : callable
-        ``s -> (w, w'(s) / s)`` (:func:`efgkit.approx.weights.weight_function`).
-
-    Returns
-    -------
-    mask : ndarray (n, k) bool
-        Pairs that still see each other.
-    w, dwx, dwy : ndarray (n, k)
-        Weights and their derivatives with respect to x (0 where masked):
-        ``dw/dx = w'(d / d_m) / d_m * dd/dx`` (Eq. 30).
+    Seed 003 Eq. (29) multiplies the distance by ``((s1 + s2) / s0)^lambda`` with
+    ``s1 = |x_I - x_c|``, ``s2 = |x - x_c|``, ``s0 = |x - x_I|``; applied to an
+    already modified ``d`` (a pair wrapping around two obstacles) the product
+    rule gives ``dd' = ratio^lambda dd + lambda ratio^(lambda - 1) d dratio``,
+    which for ``d = s0`` is Eq. (31). Only pairs where ``ok`` change.
     """
-    rows, cols = np.nonzero(nb.mask)
-    I = nb.idx[rows, cols]
-    xq, xn, dm = x[rows], nodes.x[I], nodes.radius[I]
+    s1 = np.hypot(*(xn - xc).T)
+    v2 = xq - xc
+    s2 = np.hypot(*v2.T)
+    ds2 = v2 / np.where(s2 > 0, s2, 1.0)[:, None]
+    safe = np.where(s0 > 0, s0, 1.0)
+    ratio = np.where(ok, (s1 + s2) / safe, 1.0)
+    dratio = (ds2 - ratio[:, None] * ds0) / safe[:, None]
+    f = ratio**lam
+    new_dd = f[:, None] * dd + (lam * ratio ** (lam - 1) * d)[:, None] * dratio
+    return np.where(ok, f * d, d), np.where(ok[:, None], new_dd, dd)
+
+
+def crack_distances(xq, xn, dm, I, nodes: NodeCloud, lines: CrackLines, rule: CrackRule):
+    """Rule-modified distances of the pairs (x_q, x_I): cut (P,), d (P,), dd/dx (P, 2).
+
+    ``xq, xn (P, 2)`` are the pairs' points and nodes, ``dm (P,)`` the support
+    radii, ``I (P,)`` the node indices (for the split-node faces).
+    """
     # nodes at a tip (to within TIP_SNAP d_m) sit exactly on it for the sight tests
     sight = xn.copy()
     for tip in lines.tip_positions():
@@ -231,44 +231,48 @@ def crack_weights(x: np.ndarray, nodes: NodeCloud, nb: Neighbours, lines: CrackL
     ds0 = diff / np.where(s0 > 0, s0, 1.0)[:, None]
     d, dd = s0.copy(), ds0.copy()
     cut = n_hit > 0
-    if rule.name == "visibility":
-        pass
-    elif rule.name == "see_through":
+    if rule.name == "see_through":
         for k in range(n_cracks):
             for end in np.flatnonzero(lines.is_tip[k]):
                 inside = np.hypot(*(xn - lines.ends[k, end]).T) < dm
                 cut &= ~((hits[:, k] > 0) & inside & (n_hit == hits[:, k]))
     elif rule.name == "transparency":
-        one = (n_hit == 1) & (sc < rule.kappa * rule.spacing)
         sbar = rule.kappa * rule.spacing
+        one = (n_hit == 1) & (sc < sbar)
         ratio = np.where(one, sc / sbar, 0.0)
         d = np.where(one, s0 + dm * ratio**rule.power, d)
         grad = rule.power * dm * np.where(one, ratio ** (rule.power - 1) / sbar, 0.0)
         dd = np.where(one[:, None], ds0 + grad[:, None] * dsc, dd)
         cut &= ~one
-    else:  # diffraction around the tip of the crossed crack
+    elif rule.name == "diffraction":  # around the tip of the crossed crack
         single = n_hit == 1
         k = np.argmax(hits, axis=1)
         best = np.full(len(I), np.inf)
         xc = np.zeros_like(xq)
         for end in (0, 1):
-            is_tip = lines.is_tip[k, end]
             tip = lines.ends[k, end]
             path = np.hypot(*(sight - tip).T) + np.hypot(*(xq - tip).T)
-            take = single & is_tip & (path < best)
+            take = single & lines.is_tip[k, end] & (path < best)
             best = np.where(take, path, best)
             xc = np.where(take[:, None], tip, xc)
         ok = single & np.isfinite(best)
-        s1 = np.hypot(*(xn - xc).T)
-        v2 = xq - xc
-        s2 = np.hypot(*v2.T)
-        ds2 = v2 / np.where(s2 > 0, s2, 1.0)[:, None]
-        ratio = np.where(ok, (s1 + s2) / np.where(s0 > 0, s0, 1.0), 1.0)
-        lam = rule.power
-        d = np.where(ok, ratio**lam * s0, d)
-        dd = np.where(ok[:, None], lam * ratio[:, None] ** (lam - 1) * ds2
-                      + (1 - lam) * ratio[:, None] ** lam * ds0, dd)
+        d, dd = wrap_distance(d, dd, xq, xn, xc, s0, ds0, rule.power, ok)
         cut &= ~ok
+    return cut, d, dd
+
+
+def pair_arrays(x, nodes: NodeCloud, nb: Neighbours):
+    """The valid (point, node) pairs of padded neighbours, flat: rows, cols, I, x_q, x_I, d_m."""
+    rows, cols = np.nonzero(nb.mask)
+    I = nb.idx[rows, cols]
+    return rows, cols, I, x[rows], nodes.x[I], nodes.radius[I]
+
+
+def padded_weights(nb: Neighbours, rows, cols, cut, d, dd, dm, wfun):
+    """Weights W(d / d_m) of flat pairs back on the padded arrays: mask, w, dwx, dwy (n, k).
+
+    ``dw/dx = w'(d / d_m) / d_m * dd/dx`` (seed 003 Eq. 30); cut pairs are masked.
+    """
     sn = d / dm
     wv, g = wfun(np.where(cut, 1.0, sn))
     dw = (g * sn / dm)[:, None] * dd  # w'(s) / d_m * dd/dx, with g = w'(s) / s
@@ -280,3 +284,33 @@ def crack_weights(x: np.ndarray, nodes: NodeCloud, nb: Neighbours, lines: CrackL
     dwx[rows, cols] = np.where(keep, dw[:, 0], 0.0)
     dwy[rows, cols] = np.where(keep, dw[:, 1], 0.0)
     return mask, w, dwx, dwy
+
+
+def crack_weights(x: np.ndarray, nodes: NodeCloud, nb: Neighbours, lines: CrackLines,
+                  rule: CrackRule, wfun):
+    """Weights of the (point, neighbour) pairs of ``x`` under a crack rule.
+
+    Parameters
+    ----------
+    x : ndarray (n, 2)
+        Points.
+    nodes : NodeCloud
+        With ``face`` and ``face_segment`` for nodes split on a crack (or None).
+    nb : Neighbours
+        ``idx, mask (n, k)`` before the crack is taken into account.
+    lines : CrackLines
+    rule : CrackRule
+    wfun : callable
+        ``s -> (w, w'(s) / s)`` (:func:`efgkit.approx.weights.weight_function`).
+
+    Returns
+    -------
+    mask : ndarray (n, k) bool
+        Pairs that still see each other.
+    w, dwx, dwy : ndarray (n, k)
+        Weights and their derivatives with respect to x (0 where masked):
+        ``dw/dx = w'(d / d_m) / d_m * dd/dx`` (Eq. 30).
+    """
+    rows, cols, I, xq, xn, dm = pair_arrays(x, nodes, nb)
+    cut, d, dd = crack_distances(xq, xn, dm, I, nodes, lines, rule)
+    return padded_weights(nb, rows, cols, cut, d, dd, dm, wfun)
