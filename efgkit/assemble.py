@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 from numba import njit, prange
-from scipy.sparse import bmat, bsr_array, csr_array, diags_array, kron, vstack
+from scipy.sparse import bmat, bsr_array, csr_array, diags_array, vstack
 
 from .approx.shape import Shape
 
@@ -217,31 +217,26 @@ def _nodal_part(shape: Shape) -> Shape:
     return Shape(shape.neighbours, shape.values, shape.ddx, shape.ddy, shape.n_functions)
 
 
-def _strain_operator(ops, rows: np.ndarray) -> csr_array:
-    """Strain rows (xx, yy, xy per point, point-major) of the points ``rows`` from the
-    gradient operators (d ux/dx, d ux/dy, d uy/dx, d uy/dy)."""
-    gxx, gxy, gyx, gyy = (op[rows] for op in ops)
-    E = vstack([gxx, gyy, csr_array(gxy + gyx)], format="csr")  # component-major
-    m = len(rows)
-    return csr_array(E[(np.arange(3)[None, :] * m + np.arange(m)[:, None]).ravel()])
-
-
 def _with_enrichment(shape: Shape, w, D, backend) -> csr_array:
-    """[[K_nn, K_ne], [K_en, K_ee]]: the nodal block by the row kernel, the blocks of the
-    enrichment unknowns as B^T (w D) B over the points where they are non-zero."""
+    """[[K_nn, K_ne], [K_en, K_ee]]: the nodal block by the row kernel, the enrichment
+    columns from the stresses of the enrichment unknowns: with ``S_ij`` the stress
+    components of every unknown at the points (n_points, n_extra) and ``W = diag(w)``,
+    the x rows of node I are ``(dx^T W S_xx + dy^T W S_xy)_I`` and the y rows
+    ``(dy^T W S_yy + dx^T W S_xy)_I`` (``B_I^T sigma``), and ``K_ee = E_e^T W D E_e``."""
     K_nn = stiffness(_nodal_part(shape), w, D, backend=backend)
     e = shape.extra
     if e.gxx is None:
         raise ValueError("stiffness needs shape-function derivatives (derivatives=True)")
-    rows = np.unique(np.concatenate([g.tocoo().row for g in (e.gxx, e.gxy, e.gyx, e.gyy)]))
-    ops = shape.grad_operators()
-    E = _strain_operator(ops, rows)  # (3 m, n_dofs): nodal and enrichment columns
-    WD = csr_array(kron(diags_array(w[rows]), csr_array(D)))
-    n2 = 2 * shape.n_functions
-    Ee = csr_array(E[:, n2:])
-    S = csr_array(WD @ Ee)
-    K_ne = csr_array(E[:, :n2].T @ S)
-    K_ee = csr_array(Ee.T @ S)
+    eps = (e.gxx, e.gyy, csr_array(e.gxy + e.gyx))  # strain of each unknown, (n, n_extra)
+    W = diags_array(w)
+    sig = [csr_array(W @ sum(D[i, j] * eps[j] for j in range(3) if D[i, j] != 0)) for i in range(3)]
+    dxT, dyT = csr_array(shape.dx.T), csr_array(shape.dy.T)
+    kx = csr_array(dxT @ sig[0] + dyT @ sig[2])  # (n_functions, n_extra)
+    ky = csr_array(dyT @ sig[1] + dxT @ sig[2])
+    nf = shape.n_functions
+    K_ne = csr_array(vstack([kx, ky], format="csr")[np.ravel(np.column_stack(
+        [np.arange(nf), nf + np.arange(nf)]))])  # interleave the x and y rows: 2 I + c
+    K_ee = csr_array(sum(eps[i].T @ sig[i] for i in range(3)))
     return csr_array(bmat([[K_nn, K_ne], [K_ne.T, K_ee]], format="csr"))
 
 

@@ -225,6 +225,76 @@ class FEMSolution:
         x = np.asarray(self.basis.global_coordinates()).reshape(2, -1).T
         return x, self.basis.dx.ravel(), self.stress(), self._grad(None)
 
+    def tip_size(self, tip) -> float:
+        """Mean size (:attr:`TriMesh.size`) of the elements at a tip's node: the local ``h``
+        of the default J domains.
+
+        Parameters
+        ----------
+        tip : Tip
+            One of ``scene.tips``.
+        """
+        from .fracture.sif import _scene_tip
+
+        tip = _scene_tip(self.scene, tip)
+        node = self.mesh.tip_nodes[[t.id for t in self.scene.tips].index(tip.id)]
+        return float(self.mesh.size[np.any(self.mesh.t == node, axis=1)].mean())
+
+    def sifs(self, radii=None, q="wendland_c2", spread_tol: float = 0.01) -> tuple:
+        """K_I, K_II, J and T of every crack tip, from interaction integrals over domains.
+
+        As :meth:`efgkit.solution.Solution.sifs`: the integrals of
+        :mod:`efgkit.fracture.integrals` (seed 001 Eq. 7 with the q-functions of
+        Eqs. 10, 13, 14) run over the element quadrature points
+        (:meth:`quadrature_fields`, Gauss rule of degree ``2 order``), with the
+        crack-face pressure term when the crack is pressurised
+        (:func:`~efgkit.fracture.sif.face_loads`, fields evaluated on each face);
+        each tip's result is the mean over the domains with their spread
+        (:func:`~efgkit.fracture.sif.tip_result`).
+
+        Parameters
+        ----------
+        radii : sequence of float, or callable ``tip -> radii``, optional
+            Domain radii, at least three (default:
+            :func:`~efgkit.fracture.sif.default_radii` with ``h =``
+            :meth:`tip_size`, i.e. 10, 12.5 and 15 tip elements).
+        q : str or callable
+            q-function kind (:class:`~efgkit.fracture.qfunctions.QFunction`) or
+            ``radius -> QFunction``.
+        spread_tol : float
+            Relative spread of K over the domains above which a warning is issued.
+
+        Returns
+        -------
+        tuple of TipResult, one per tip of ``scene.tips``.
+
+        Examples
+        --------
+        The mode-I Williams field prescribed around an edge crack (seed 003 Sect. 5.6.1):
+
+        >>> from efgkit import Crack, Domain, Elastic, Field, Scene, Support
+        >>> from efgkit.fem import FEM, solve_fem
+        >>> W = Field.named("williams", KI=1.0)
+        >>> scene = Scene(Domain.rectangle(-1, -1, 1, 1), Elastic(1.0, 0.3),
+        ...               supports=tuple(Support(e, ux=W, uy=W) for e in ("left", "bottom", "right", "top")),
+        ...               cracks=(Crack([[-1.0, 0.0], [0.0, 0.0]], tips=(False, True)),))
+        >>> res, = solve_fem(scene, FEM(0.25, tip_h=0.02, quarter_point=True)).sifs(radii=(0.3, 0.5, 0.7))
+        >>> round(res.KI, 3), round(res.KII, 3), bool(res.spread < 1e-3)
+        (1.0, 0.0, True)
+        """
+        from .fracture.sif import default_radii, face_loads, tip_result
+
+        x, w, stress, grad = self.quadrature_fields()
+        out = []
+        for tip in self.scene.tips:
+            h = self.tip_size(tip)
+            rs = (radii(tip) if callable(radii) else radii) if radii is not None else \
+                default_radii(self.scene, tip, h)
+            faces = face_loads(self.scene, tip, max(rs), lambda xs, side: self._grad(xs), h)
+            out.append(tip_result(self.scene, tip, x, w, stress, grad, rs, q=q, faces=faces,
+                                  spread_tol=spread_tol))
+        return tuple(out)
+
     def strain_energy(self) -> float:
         """U = 1/2 u . K u (the strain energy of the discrete solution)."""
         return 0.5 * float(self.u @ (self.K @ self.u))

@@ -71,7 +71,7 @@ def _auxiliary(system, disc, K):
     from .auxiliary import auxiliary_preconditioner
 
     t0 = time.perf_counter()
-    x = disc.nodes.x
+    x = disc.nodes.face_positions(disc.approx.lines, 1e-3)
     phi = csr_array(disc.shape_at(x, derivatives=False).phi)[:, : len(x)]
     t_phi = time.perf_counter() - t0
     cracks = getattr(disc.scene, "cracks", ())

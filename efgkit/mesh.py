@@ -154,7 +154,7 @@ def _areas(x, t):
     return 0.5 * ((b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0]))
 
 
-def _check(h, tip_h, grading, min_angle):
+def _check(h, tip_h, grading, min_angle, tip_fan=0):
     for name, v in (("h", h), ("grading", grading), ("min_angle", min_angle)) + (
             (("tip_h", tip_h),) if tip_h is not None else ()):
         if isinstance(v, bool) or not isinstance(v, (int, float, np.integer, np.floating)):
@@ -170,6 +170,11 @@ def _check(h, tip_h, grading, min_angle):
     if not 0 < min_angle <= 33:
         raise ValueError(f"min_angle must lie in (0, 33] degrees (Triangle may not terminate "
                          f"above), got {min_angle!r}")
+    if isinstance(tip_fan, bool) or not isinstance(tip_fan, (int, np.integer)) or not (
+            tip_fan == 0 or 4 <= tip_fan <= 360 / min_angle):
+        raise ValueError(f"tip_fan must be 0 (no fan) or an integer n with 4 <= n <= 360 / "
+                         f"min_angle = {360 / min_angle:.4g} (the fan's angles 360 / n must not "
+                         f"be below min_angle), got {tip_fan!r}")
 
 
 def _pslg(domain, cracks, h):
@@ -343,7 +348,7 @@ def _open_cracks(x, t, crack_facets, keep):
 
 
 def mesh_scene(scene, h: float, tip_h: float | None = None, grading: float = 1.25,
-               min_angle: float = 28.0) -> TriMesh:
+               min_angle: float = 28.0, tip_fan: int = 0, refine=()) -> TriMesh:
     """Quality triangle mesh of a scene, graded toward its crack tips, cracks opened.
 
     Parameters
@@ -358,6 +363,17 @@ def mesh_scene(scene, h: float, tip_h: float | None = None, grading: float = 1.2
         Growth ratio of neighbouring element sizes away from a tip, in (1, 4].
     min_angle : float
         Smallest triangle angle in degrees (Triangle's ``q``), in (0, 33].
+    tip_fan : int
+        0, or the number ``n >= 4`` of elements around every tip: ``n - 1``
+        vertices at angles ``pi (2 k / n - 1)``, ``k = 1..n-1``, from the
+        crack's direction, at the distance ``tip_h`` (``h`` without grading)
+        from the tip, so the tip's fan holds ``n`` elements of angle
+        ``2 pi / n`` (quarter-point elements want ``n >= 8``; Triangle alone
+        leaves 4-6).
+    refine : array_like, shape (k, 2)
+        Further points toward which the mesh is graded as toward the tips (a
+        re-entrant corner, the tip of a crack modelled by a symmetry support);
+        each becomes a mesh vertex.
 
     Returns
     -------
@@ -379,19 +395,25 @@ def mesh_scene(scene, h: float, tip_h: float | None = None, grading: float = 1.2
 
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a Scene, got {type(scene).__name__}")
-    _check(h, tip_h, grading, min_angle)
+    _check(h, tip_h, grading, min_angle, tip_fan)
+    refine = _points(refine, scene.domain)
     tips = scene.tips
     est = scene.domain.area / (_EQ * h * h)
-    if tip_h is not None and tip_h < h and tips:  # integral of 1/(EQ s^2) over the graded discs
-        est += len(tips) * 2 * math.pi / (_EQ * (grading - 1) ** 2) * math.log(h / tip_h)
+    if tip_h is not None and tip_h < h and (tips or len(refine)):  # 1/(EQ s^2) over graded discs
+        est += (len(tips) + len(refine)) * 2 * math.pi / (_EQ * (grading - 1) ** 2) * math.log(h / tip_h)
     if est > _MAX_ELEMENTS:
         raise ValueError(f"h = {h!r}, tip_h = {tip_h!r} would give about {est:.2g} elements "
                          f"(limit {_MAX_ELEMENTS:.0e}); raise h or tip_h")
     domain, cracks = scene.domain, scene.cracks
     x0, segs, marks, holes, crack_ids, n_edges = _pslg(domain, cracks, h)
+    if tip_fan and tips:
+        x0 = np.vstack([x0, _fan(scene, tips, tip_h if tip_h is not None else h, tip_fan)])
+    if len(refine):  # as vertices (those on the boundary polylines are there already)
+        d = np.linalg.norm(refine[:, None] - x0[None], axis=-1).min(axis=1)
+        x0 = np.vstack([x0, refine[d > 1e-12 * domain.size]])
 
     def size(p):
-        return size_field(p, h, tips, tip_h, grading)
+        return size_field(p, h, tuple(tips) + tuple(refine), tip_h, grading)
 
     x, t, fseg, fmark = _triangulate(x0, segs, marks, holes, h, size, min_angle)
     edges = domain.edges()
@@ -446,6 +468,33 @@ def mesh_scene(scene, h: float, tip_h: float | None = None, grading: float = 1.2
         o = np.argsort(s)
         crack_nodes.append((ids[o], right[o]))
     return TriMesh(x, t, fac, own, origin, tuple(crack_nodes), tip_nodes, domain, tuple(cracks))
+
+
+def _points(refine, domain) -> np.ndarray:
+    """``refine`` as a float array (k, 2) of points in the closed domain."""
+    try:
+        p = np.asarray(refine, dtype=float).reshape(-1, 2)
+    except (TypeError, ValueError) as err:
+        raise ValueError(f"refine must be points of shape (k, 2), got {refine!r}") from err
+    bad = ~(np.all(np.isfinite(p), axis=1) & domain.contains(p, tol=1e-9 * domain.size))
+    if bad.any():
+        raise ValueError(f"refine point {p[np.argmax(bad)].tolist()} is not a finite point of the "
+                         "domain; give points inside it or on its boundary")
+    return p
+
+
+def _fan(scene, tips, rho: float, n: int) -> np.ndarray:
+    """Fan vertices ((n - 1) per tip, 2) at distance ``rho`` (capped at 0.45 of the free radius:
+    the distance to the boundary, other cracks and tips, a kink) around every tip."""
+    from .fracture.sif import _limits
+
+    th = np.pi * (2 * np.arange(1, n) / n - 1)
+    out = []
+    for tip in tips:
+        free = min(_limits(scene, tip).values())
+        r = min(rho, 0.45 * free)
+        out.append(tip.x + r * np.column_stack([np.cos(tip.angle + th), np.sin(tip.angle + th)]))
+    return np.concatenate(out)
 
 
 def _arclength(crack, p):

@@ -50,6 +50,20 @@ class NodeCloud:
     def n(self) -> int:
         return len(self.x)
 
+    def face_positions(self, lines, fraction: float) -> np.ndarray:
+        """Coordinates with every split node moved off the crack onto its face by
+        ``fraction`` of its support radius, shape (n_nodes, 2): where the two copies of a
+        split node differ (e.g. to evaluate each one's own side). ``lines`` is the
+        scene's :class:`~efgkit.approx.crack_rules.CrackLines` (None: no cracks)."""
+        if lines is None or self.face is None or not np.any(self.face):
+            return self.x
+        k = np.flatnonzero(self.face != 0)
+        e = lines.b[self.face_segment[k]] - lines.a[self.face_segment[k]]
+        left = np.column_stack([-e[:, 1], e[:, 0]]) / np.hypot(*e.T)[:, None]
+        x = self.x.copy()
+        x[k] += (fraction * self.radius[k] * self.face[k])[:, None] * left
+        return x
+
 
 def support_radii(x: np.ndarray, d_max: float, regular: bool) -> np.ndarray:
     """Support radii d_mI = d_max c_I, shape (n,).

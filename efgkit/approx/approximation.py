@@ -146,7 +146,9 @@ class Approximation:
         else:
             mask = nb.mask.copy()
             vals = [np.zeros(nb.idx.shape) if derivatives or i == 0 else None for i in range(3)]
-            plain = np.setdiff1d(np.arange(len(x)), rows)
+            is_plain = np.ones(len(x), bool)
+            is_plain[rows] = False
+            plain = np.flatnonzero(is_plain)
             if len(plain):
                 sp = self._mls(x[plain], nb.subset(plain), derivatives)
                 for v, r in zip(vals, (sp.values, sp.ddx, sp.ddy), strict=True):
@@ -174,8 +176,9 @@ class Approximation:
                 for v, r in zip(vals, out, strict=True):
                     if v is not None:
                         v[near] = r
-        extra = None
-        if enr is not None and enr.n_extra:
-            extra = extra_columns(x, nb, vals[0], vals[1], vals[2], enr, derivatives, self.spacing)
-        return Shape(nb, vals[0], vals[1] if derivatives else None,
-                     vals[2] if derivatives else None, self.nodes.n, extra)
+        nodal = Shape(nb, vals[0], vals[1] if derivatives else None,
+                      vals[2] if derivatives else None, self.nodes.n)
+        if enr is None or not enr.n_extra:
+            return nodal
+        extra = extra_columns(x, nodal, enr, derivatives, self.spacing)
+        return Shape(nodal.neighbours, nodal.values, nodal.ddx, nodal.ddy, nodal.n_functions, extra)
