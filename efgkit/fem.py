@@ -55,7 +55,7 @@ class FEM:
     min_angle : float
         Smallest triangle angle in degrees, in (0, 33].
     tip_fan : int
-        Elements around every tip, ``4 <= tip_fan <= 360 / min_angle``, or 0
+        Elements around every tip, ``5 <= tip_fan <= 360 / min_angle``, or 0
         for whatever Triangle leaves (4-6); see :func:`efgkit.mesh.mesh_scene`.
         The default 12 (30 degrees per element) halves the energy error of
         the graded singular patch and quarters the tip's spurious displacement

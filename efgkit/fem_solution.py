@@ -282,7 +282,7 @@ class FEMSolution:
         >>> round(res.KI, 3), round(res.KII, 3), bool(res.spread < 1e-3)
         (1.0, 0.0, True)
         """
-        from .fracture.sif import default_radii, face_loads, tip_result
+        from .fracture.sif import default_radii, tip_result
 
         x, w, stress, grad = self.quadrature_fields()
         out = []
@@ -290,10 +290,39 @@ class FEMSolution:
             h = self.tip_size(tip)
             rs = (radii(tip) if callable(radii) else radii) if radii is not None else \
                 default_radii(self.scene, tip, h)
-            faces = face_loads(self.scene, tip, max(rs), lambda xs, side: self._grad(xs), h)
+            faces = self._face_load(tip, max(rs))
             out.append(tip_result(self.scene, tip, x, w, stress, grad, rs, q=q, faces=faces,
                                   spread_tol=spread_tol))
         return tuple(out)
+
+    def _face_load(self, tip, radius: float):
+        """Gauss points of the loaded crack-face facets of ``tip``'s crack that reach into the
+        disc of ``radius``, as a :class:`~efgkit.fracture.integrals.FaceLoad` (None without
+        pressure). The rule follows the elements (degree ``2 order + 2`` on each facet,
+        through the facet's isoparametric map, so quarter-point facets get points crowded
+        toward the tip) and the gradient is that of the facet's own element: the face
+        integral of J sums the FE field exactly, where a global rule across the facets'
+        jumps in the gradient would not."""
+        from skfem import FacetBasis
+
+        from .fracture.integrals import FaceLoad
+
+        k = [c.name for c in self.scene.cracks].index(tip.crack)
+        p = self.scene.cracks[k].pressure
+        if p == 0.0:
+            return None
+        f = self.fmap[self.mesh.facet_owner == -1 - k]
+        sk = self.basis.mesh
+        ends = sk.p[:, sk.facets[:, f]]  # (2, 2, n_facets)
+        f = f[np.linalg.norm(ends - tip.x[:, None, None], axis=0).min(axis=0) < radius]
+        if len(f) == 0:
+            return None
+        fb = FacetBasis(sk, self.basis.elem, facets=f, intorder=2 * self.fem.order + 2)
+        n = np.asarray(fb.normals).reshape(2, -1).T
+        up = np.array([-np.sin(tip.angle), np.cos(tip.angle)])  # e2 of the tip frame
+        return FaceLoad(np.asarray(fb.global_coordinates()).reshape(2, -1).T, fb.dx.ravel(), -p * n,
+                        fb.interpolate(self.u).grad.reshape(2, 2, -1).transpose(2, 0, 1),
+                        np.where(n @ up < 0, 1.0, -1.0))
 
     def strain_energy(self) -> float:
         """U = 1/2 u . K u (the strain energy of the discrete solution)."""
@@ -375,53 +404,17 @@ class FEMSolution:
         r = self.K @ self.u - self.f
         return np.array([r[2 * dofs].sum(), r[2 * dofs + 1].sum()])
 
-    def _cell_stress(self) -> np.ndarray:
-        """Stress at the element centroids, shape (n_elements, 3)."""
-        n = self.mesh.n_elements
-        g = self._at(np.arange(n), np.full((2, n), 1 / 3), grad=True)
-        eps = np.column_stack([g[:, 0, 0], g[:, 1, 1], g[:, 0, 1] + g[:, 1, 0]])
-        return eps @ self.scene.material.D.T
-
     def nodal_stress(self) -> np.ndarray:
-        """Stress (n_nodes, 3) at the mesh vertices, averaged over the elements at each vertex.
+        """Stress (n_nodes, 3) at the mesh vertices (:func:`efgkit.fem_output.nodal_stress`)."""
+        from .fem_output import nodal_stress
 
-        Each element is evaluated a hair (1e-3 of the way to its centroid) inside its
-        vertex, so quarter-point tips give large finite values; crack faces are not averaged
-        across (their nodes are distinct).
-        """
-        sk, n = self.basis.mesh, self.mesh.n_elements
-        acc, cnt = np.zeros((self.mesh.n_nodes, 3)), np.bincount(sk.t.ravel(), minlength=self.mesh.n_nodes)
-        for k, ref in enumerate(([0, 0], [1, 0], [0, 1])):
-            X = np.repeat((0.999 * np.array(ref) + 0.001 / 3)[:, None], n, axis=1)
-            g = self._at(np.arange(n), X, grad=True)
-            eps = np.column_stack([g[:, 0, 0], g[:, 1, 1], g[:, 0, 1] + g[:, 1, 0]])
-            np.add.at(acc, sk.t[k], eps @ self.scene.material.D.T)
-        return acc / np.maximum(cnt, 1)[:, None]
+        return nodal_stress(self)
 
     def write_vtu(self, path) -> Path:
-        """Write the mesh and fields as VTU (``triangle6`` cells for P2, ``triangle`` for P1).
+        """Write the mesh and fields as VTU (:func:`efgkit.fem_output.write_vtu`)."""
+        from .fem_output import write_vtu
 
-        Point data ``displacement (n, 3)`` (z = 0); cell data ``stress (n_elements, 3)``
-        (xx, yy, xy at the centroids) and ``von_mises``. A ``.vtu`` suffix is added when
-        missing; parent directories are created.
-        """
-        import meshio
-
-        from .io import _pad3, von_mises
-
-        path = Path(path)
-        if path.suffix != ".vtu":
-            path = path.with_name(path.name + ".vtu")
-        sb = self._sbasis
-        cells = sb.element_dofs.T
-        kind = "triangle6" if cells.shape[1] == 6 else "triangle"
-        s = self._cell_stress()
-        path.parent.mkdir(parents=True, exist_ok=True)
-        meshio.write_points_cells(
-            path, _pad3(sb.doflocs.T), [(kind, cells)],
-            point_data={"displacement": _pad3(np.column_stack([self.u[0::2], self.u[1::2]]))},
-            cell_data={"stress": [s], "von_mises": [von_mises(s, self.scene.material)]})
-        return path
+        return write_vtu(self, path)
 
     def plot_mesh(self, ax=None):
         """The mesh (:func:`efgkit.mesh.plot_mesh`); returns the figure."""
@@ -429,35 +422,21 @@ class FEMSolution:
 
         return plot_mesh(self.mesh, ax)
 
-    def plot_stress(self, component: str = "von_mises", ax=None, levels: int = 30):
-        """Filled contours of a vertex-averaged stress component; returns the figure.
+    def plot_stress(self, component: str = "von_mises", ax=None, levels: int = 30, limits=None):
+        """Filled contours of a stress component (:func:`efgkit.fem_output.plot_stress`)."""
+        from .fem_output import plot_stress
 
-        ``component`` is one of :data:`efgkit.plot.COMPONENTS`. The colour range spans the
-        0.5 to 99.5 percentiles of the vertex values, so that the singular values at crack
-        tips do not flatten the picture (values beyond are drawn in the end colours).
-        """
-        from matplotlib.tri import Triangulation
+        return plot_stress(self, component, ax, levels, limits)
 
-        from .io import von_mises
-        from .plot import _LABELS, COMPONENTS, _axes, _outline
+    def record(self, radii=None, q="wendland_c2") -> dict:
+        """JSON-ready summary with the SIFs of every tip (:func:`efgkit.fem_output.record`)."""
+        from .fem_output import record
 
-        if component not in COMPONENTS:
-            raise ValueError(f"component must be one of {COMPONENTS}, got {component!r}")
-        if isinstance(levels, bool) or not isinstance(levels, (int, np.integer)) or levels < 1:
-            raise ValueError(f"levels must be a positive integer, got {levels!r}")
-        s = self.nodal_stress()
-        z = von_mises(s, self.scene.material) if component == "von_mises" else s[
-            :, COMPONENTS.index(component) - 1]
-        lo, hi = (float(v) for v in np.percentile(z, [0.5, 99.5]))  # singular tips clipped
-        scale = max(abs(lo), abs(hi), np.finfo(float).tiny)
-        mid = 0.5 * (lo + hi)
-        bounds = (np.linspace(lo, hi, levels + 1) if hi - lo > 1e-9 * scale else
-                  np.linspace(mid - 1e-3 * scale, mid + 1e-3 * scale, levels + 1))
-        fig, ax = _axes(ax, self.scene.domain, width=8.0)
-        tri = Triangulation(self.mesh.x[:, 0], self.mesh.x[:, 1], self.mesh.t)
-        cs = ax.tricontourf(tri, z, levels=bounds, cmap="viridis", extend="both")
-        fig.colorbar(cs, ax=ax, label=_LABELS[component])
-        _outline(ax, self.scene.domain, self.scene.cracks)
-        ax.set_aspect("equal")
-        ax.set_title(f"{self.scene.name} (FEM P{self.fem.order}): {_LABELS[component]}")
-        return fig
+        return record(self, radii, q)
+
+    def write(self, out, name: str | None = None, radii=None) -> dict:
+        """Fields (VTU), figures (PNG) and the record (JSON) in ``out``
+        (:func:`efgkit.fem_output.write`); returns the record."""
+        from .fem_output import write
+
+        return write(self, out, name, radii)

@@ -239,7 +239,9 @@ def _cut_triangles(p, q, c, n_cells, inside):
     # coincident lines (the two sides of a crack slit): the one travelling in -x first, so
     # that the material below and above the slit is kept and only the slit's zero-area
     # strip lies between them
-    o = np.lexsort((up, np.where(bottom, -1.0, 0.5 * (la + lb)), ls))
+    # (the mid heights are rounded: the two sides of a slit compute them from opposite ends,
+    # and rounding must not decide their order)
+    o = np.lexsort((up, np.where(bottom, -1.0, np.round(0.5 * (la + lb), 12)), ls))
     ls, la, lb, up, bottom = ls[o], la[o], lb[o], up[o], bottom[o]
     last = np.append(ls[1:] != ls[:-1], True)
     ua = np.where(last, 1.0, np.append(la[1:], 1.0))  # the line above: next one or y = 1

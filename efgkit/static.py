@@ -102,6 +102,7 @@ def essential_conditions(disc: Discretization, derivatives: bool) -> Dirichlet:
     mouths = crack_mouths(scene)
     corner_comps: dict[tuple, set] = {}  # components constrained at each edge end so far
     tol = 1e-9 * scene.domain.size
+    mouth_keys = {tuple(np.round(p / tol).astype(np.int64)) for p in mouths}
     for sup in scene.supports:
         for e in support_edges(scene.domain, sup.edge):
             hat = np.linspace(0.0, 1.0, boundary_segments_for(e, disc.nodes, m.spacing) + 1)
@@ -114,6 +115,12 @@ def essential_conditions(disc: Discretization, derivatives: bool) -> Dirichlet:
                 if v is not None:
                     fixed[:, c] = keep
                     value[:, c] = evaluate_component(v, x, c, scene.material)
+            # A crack mouth on the edge is a knot where the multiplier may jump (the traction
+            # on the two sides of a crack differs): it gets one hat node per side.
+            at_mouth = _mouth_parameters(e, mouths)
+            hat = np.unique(np.concatenate([hat, at_mouth]))
+            hat = hat[np.append(True, np.diff(hat) > 1e-9)]
+            hat[-1] = 1.0
             nhat = len(hat) - 1
             seg = np.clip(np.searchsorted(hat, s, side="right") - 1, 0, nhat - 1)
             comps = {c for c, v in enumerate((sup.ux, sup.uy)) if v is not None}
@@ -121,7 +128,8 @@ def essential_conditions(disc: Discretization, derivatives: bool) -> Dirichlet:
             spare = nhat - 1  # end pieces that may still borrow a neighbour's multiplier
             for j, end in ((0, e.start), (nhat - 1, e.end)):
                 key = tuple(np.round(end / tol).astype(np.int64))
-                if corner_comps.get(key, set()) & comps and spare > 0:
+                corner = key not in mouth_keys
+                if corner and corner_comps.get(key, set()) & comps and spare > 0:
                     # Another constrained edge already has a multiplier at this corner; two
                     # there over-constrain it (unstable). This edge's end piece takes the
                     # linear extrapolation of its neighbour piece's multiplier instead.
@@ -130,10 +138,13 @@ def essential_conditions(disc: Discretization, derivatives: bool) -> Dirichlet:
                 corner_comps.setdefault(key, set()).update(comps)
             seg = new_seg
             t = (s - hat[seg]) / (hat[seg + 1] - hat[seg])  # outside [0, 1] if extrapolated
-            seg_nodes = hat0 + np.column_stack([np.arange(nhat), np.arange(1, nhat + 1)])
+            split = np.isin(np.round(hat, 12), np.round(at_mouth, 12))
+            left_id = hat0 + np.cumsum(np.concatenate([[0], 1 + split[:-1]]))  # ids of knots
+            right_id = left_id + split  # the second node of a split knot serves the next piece
+            seg_nodes = np.column_stack([right_id[:-1], left_id[1:]])
             parts.append((x, w, nrm, fixed, value, seg + seg0, t, seg_nodes))
             seg0 += nhat
-            hat0 += nhat + 1
+            hat0 = int(right_id[-1]) + 1
     if not parts:
         x = np.zeros((0, 2))
         return Dirichlet(x, np.zeros(0), x, disc.shape_at(x, derivatives), np.zeros((0, 2), bool),
@@ -142,6 +153,15 @@ def essential_conditions(disc: Discretization, derivatives: bool) -> Dirichlet:
     x = cat[0]
     return Dirichlet(x, cat[1], cat[2], disc.shape_at(x, derivatives), cat[3], cat[4], cat[5],
                      cat[6], cat[7])
+
+
+def _mouth_parameters(edge, mouths: np.ndarray) -> np.ndarray:
+    """Edge parameters (0 < s < 1) of the crack mouths lying on ``edge``."""
+    if len(mouths) == 0:
+        return np.zeros(0)
+    s = edge.parameter(mouths)
+    on = np.hypot(*(edge.at(s)[0] - mouths).T) <= 1e-9 * max(edge.length, 1e-300)
+    return s[on & (s > 1e-9) & (s < 1 - 1e-9)]
 
 
 def _eliminated_dofs(disc: Discretization):

@@ -67,7 +67,8 @@ def _ray_exit(tip: np.ndarray, d: np.ndarray, corner: np.ndarray, size: float) -
     lo, hi = corner, corner + size
     with np.errstate(divide="ignore", invalid="ignore"):
         t = np.where(d > 0, (hi - tip) / d, np.where(d < 0, (lo - tip) / d, np.inf))
-    return tip + np.min(t, axis=1)[:, None] * d
+    # a tip on the cell's edge (to rounding) may sit a hair outside: never step backwards
+    return tip + np.maximum(np.min(t, axis=1), 0.0)[:, None] * d
 
 
 def tip_cell_rule(corner: np.ndarray, size: float, tip: np.ndarray, directions: np.ndarray,

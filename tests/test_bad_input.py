@@ -137,3 +137,31 @@ def test_fields_outside_the_body_are_refused():
     with pytest.raises(ValueError, match="finite points of shape"):
         sol.displacement([[np.nan, 0.0]])
     assert np.all(np.isfinite(sol.stress([[0.0, 0.0], [1.0, 1.0], [0.5, 0.3]])))
+
+
+def test_global_extrinsic_fields_need_a_single_tip_crack():
+    from efgkit import Crack, Field
+
+    f = Field.named("kirsch", a=0.1)
+    sup = tuple(Support(e, ux=f, uy=f) for e in ("bottom", "right", "top", "left"))
+    scene = Scene(Domain.rectangle(-1, -1, 1, 1), Elastic(1.0, 0.3), supports=sup,
+                  cracks=(Crack([[-0.3, -0.2], [0.3, 0.2]], name="g"),))
+    with pytest.raises(ValueError, match="crack 'g' has two tips.*Give enrich_radius"):
+        solve(scene, EFG(spacing=0.2, enrichment="extrinsic_mls"))
+
+
+def test_visibility_with_enrichment_is_refused():
+    from efgkit import Crack
+
+    scene = Scene(Domain.rectangle(-1, -1, 1, 1), Elastic(1.0, 0.3),
+                  supports=(Support("bottom", ux=0.0, uy=0.0),),
+                  cracks=(Crack([[-1.0, 0.0], [0.0, 0.0]], (False, True)),))
+    with pytest.raises(ValueError, match="with crack_rule='visibility' is not supported"):
+        solve(scene, EFG(spacing=0.25, enrichment="pu", crack_rule="visibility"))
+
+
+def test_enrichment_without_cracks_is_refused():
+    scene = Scene(Domain.rectangle(0, 0, 1, 1), Elastic(1.0, 0.3),
+                  supports=(Support("left", ux=0.0, uy=0.0),))
+    with pytest.raises(ValueError, match="needs a crack tip"):
+        solve(scene, EFG(spacing=0.25, enrichment="full"))

@@ -323,3 +323,26 @@ def test_boundary_points_errors():
         boundary_points(RECT, lambda x: x[:, 0], 2, 0.1)
     with pytest.raises(ValueError, match="h must"):
         boundary_points(RECT, "left", 2, 0.0)
+
+
+@pytest.mark.parametrize("angle", [20.0, 30.0, 45.0, 60.0])
+@pytest.mark.parametrize("cell", [1 / 8, 1 / 16, 1 / 32])
+def test_cells_split_by_an_inclined_crack_keep_their_area(angle, cell):
+    # regression: the two sides of a slit were ordered by rounding, dropping material
+    from efgkit import Crack
+
+    t = np.tan(np.radians(angle))
+    pts = cell_points(Domain.rectangle(-1, -1, 1, 1), cell, 4,
+                      cracks=[Crack([[-0.8, -0.8 * t], [0.0, 0.0]])])
+    assert abs(pts.w.sum() - 4.0) < 1e-11 and pts.w.min() > 0
+
+
+def test_tip_fans_stay_in_their_cells_with_a_rosette():
+    # regression: a rosette node 2e-17 off the crack line sent a fan ray backwards
+    from efgkit import EFG, Crack, Elastic, Rosette, Scene
+    from efgkit.discretize import discretize
+
+    scene = Scene(Domain.rectangle(-1, -1, 1, 1), Elastic(1.0, 0.3),
+                  cracks=(Crack([[-1.0, 0.0], [0.0, 0.0]], (False, True)),))
+    d = discretize(scene, EFG(spacing=1 / 12, rosette=Rosette(1 / 6, 4, 9)))
+    assert abs(d.points.w.sum() - 4.0) < 1e-11
