@@ -1,0 +1,296 @@
+"""Shear edge crack of seed 003 Sect. 5.6.2 and Table 1.
+
+Plate W = 7 wide (x) and L = 16 high (y), clamped on the bottom edge, shear traction
+t = (1, 0) on the top edge, edge crack of length a = W / 2 = 3.5 at mid-height from the
+left edge; E = 3e7, nu = 0.25, plane strain (units psi, in). Evenly spaced grids of
+5 x 11 and 11 x 29 nodes (spacings 1.75 x 1.6 and 0.7 x 0.571; the tip is a node of
+both), Lagrange multipliers on the bottom edge, J domains of radius 0.8, 1.0 and 1.2
+about the tip (the seed's "+-1 in. from the crack tip"; Wendland C2 q).
+
+Variants as in Table 1 (linear basis without rings, extrinsic MLS, intrinsic full and
+intrinsic sqrt(r)), plus extrinsic PU, with the settings of ``singular_patch`` scaled by
+the crack length. References: Wilson (1969), quoted by seed 003: K_I = 34.0,
+K_II = 4.55; and a converged reference of our own: EFG with PU enrichment on uniform
+grids of h = 0.175 and 0.0875 and P2 quarter-point finite elements (scikit-fem) with
+h = 0.125 / 0.0625 (tip elements 0.01 / 0.005).
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from efgkit import EFG, FEM, Crack, Domain, Elastic, Scene, Support, Traction, solve, solve_fem
+from efgkit.approx.mls import SingularMomentMatrix
+from efgkit.report import Report
+
+NAME = "shear_edge_crack"
+TITLE = "Shear edge crack (seed 003 Table 1)"
+ROOT = Path(__file__).resolve().parents[1]
+W, L, A = 7.0, 16.0, 3.5
+MAT = Elastic(3e7, 0.25, "strain")
+GRIDS = ((5, 11), (11, 29))
+RADII = (0.8, 1.0, 1.2)  # J discs about the tip: seed 003 "a domain of +-1 in."
+CURVE = tuple(np.round(np.linspace(0.5, 3.0, 11), 6))  # K against the radius (figure)
+K_WILSON = (34.0, 4.55)  # Wilson (1969), quoted in seed 003 Sect. 5.6.2
+# Measured by this script in full mode (recomputed there): EFG PU at h = 0.0875 gives
+# (34.0419, 4.5370) and FEM P2 quarter-point at h = 0.0625, tip_h = 0.005 (34.0406, 4.5368).
+K_CONVERGED = (34.041, 4.5369)
+# Seed 003 Table 1: (k1, k2) on 5 x 11 and 11 x 29 nodes
+SEED = {"linear": ((26.90, 3.43), (32.51, 4.33)), "extrinsic_mls": ((34.43, 4.58), (34.21, 4.55)),
+        "full": ((32.24, 4.21), (33.87, 4.54)), "radial": ((31.86, 4.20), (33.01, 4.59))}
+# Settings per variant: those of singular_patch, intrinsic disc r1 = 0.6 a, r2 = 0.9 a.
+INTRINSIC_DISC = dict(enrich_radius=0.9 * A, ramp_inner=0.6 * A)
+VARIANTS = {
+    "linear": dict(),
+    "extrinsic_mls": dict(enrichment="extrinsic_mls", rule_power=1.0),
+    "full": dict(enrichment="full", d_max=3.0, **INTRINSIC_DISC),
+    "radial": dict(enrichment="radial", **INTRINSIC_DISC),
+    "pu": dict(enrichment="pu", rule_power=1.0),
+}
+LABELS = {"linear": "Linear (no rings)", "extrinsic_mls": "Extrinsic MLS", "full": "Intrinsic (full)",
+          "radial": "Intrinsic (sqrt r)", "pu": "Extrinsic PU"}
+TOL = 0.003  # issue 4: enriched variants at 11 x 29 within 0.3 % of K_I and K_II
+EFG_REF = (0.175, 0.0875)  # uniform spacings of the converged EFG reference (PU, lambda = 1)
+FEM_REF = ((0.125, 0.01), (0.0625, 0.005))  # (h, tip_h) of the P2 quarter-point reference
+
+
+def scene() -> Scene:
+    crack = Crack([[0.0, L / 2], [A, L / 2]], tips=(False, True), name="crack")
+    return Scene(Domain.rectangle(0.0, 0.0, W, L), MAT, supports=(Support("bottom", ux=0.0, uy=0.0),),
+                 tractions=(Traction("top", (1.0, 0.0)),), cracks=(crack,), name=NAME)
+
+
+def grid(nx: int, ny: int) -> np.ndarray:
+    """Evenly spaced nodes (nx * ny, 2) on the plate."""
+    g = np.meshgrid(np.linspace(0.0, W, nx), np.linspace(0.0, L, ny))
+    return np.column_stack([a.ravel() for a in g])
+
+
+def _sifs(sol, radii):
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        res = sol.sifs(radii=radii)[0]
+    return res, sorted({str(w.message)[:120] for w in caught})
+
+
+def run(variant: str, nx: int, ny: int, curve: bool = True) -> dict:
+    h = max(W / (nx - 1), L / (ny - 1))
+    t0 = time.perf_counter()
+    sol = solve(scene(), EFG(spacing=h, coordinates=grid(nx, ny), bc="lagrange", **VARIANTS[variant]))
+    res, notes = _sifs(sol, RADII)
+    out = {"KI": res.KI, "KII": res.KII, "spread": res.spread, "n_nodes": sol.nodes.n,
+           "domains": [{"radius": d.radius, "KI": d.KI, "KII": d.KII, "n_points": d.n_points}
+                       for d in res.domains], "warnings": notes}
+    if res.enriched is not None:
+        out["KI_enriched"], out["KII_enriched"] = res.enriched
+    if curve:
+        doms = _sifs(sol, CURVE)[0].domains
+        out["curve"] = {"radius": [d.radius for d in doms], "KI": [d.KI for d in doms],
+                        "KII": [d.KII for d in doms]}
+    out["seconds"] = time.perf_counter() - t0
+    return out
+
+
+def run_with(variant: str, override: dict, uniform: bool = False) -> dict:
+    """K of ``variant`` with settings changed: on the 11 x 29 grid or (``uniform``) on the
+    regular grid of ``override["spacing"]``."""
+    nx, ny = GRIDS[-1]
+    opts = dict(spacing=max(W / (nx - 1), L / (ny - 1)), coordinates=grid(nx, ny), bc="lagrange",
+                **VARIANTS[variant])
+    if uniform:
+        opts.pop("coordinates")
+    opts.update(override)
+    try:
+        res, _ = _sifs(solve(scene(), EFG(**opts)), RADII)
+    except SingularMomentMatrix as err:  # recorded: the 7-term basis far from the tip
+        return {"error": str(err)[:160]}
+    return {"KI": res.KI, "KII": res.KII, "spread": res.spread}
+
+
+def efg_reference(h: float) -> dict:
+    t0 = time.perf_counter()
+    sol = solve(scene(), EFG(spacing=h, bc="lagrange", **VARIANTS["pu"]))
+    res, _ = _sifs(sol, RADII)
+    return {"h": h, "n_nodes": sol.nodes.n, "KI": res.KI, "KII": res.KII, "spread": res.spread,
+            "seconds": time.perf_counter() - t0}
+
+
+def fem_reference(h: float, tip_h: float) -> dict:
+    t0 = time.perf_counter()
+    sol = solve_fem(scene(), FEM(h, tip_h=tip_h, quarter_point=True))
+    if hasattr(sol, "sifs"):
+        res, _ = _sifs(sol, RADII)
+    else:  # FEMSolution.sifs not there yet: the same integrals on its quadrature fields
+        from efgkit.fracture.sif import tip_result
+
+        sc = sol.scene
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            res = tip_result(sc, sc.tips[0], *sol.quadrature_fields(), RADII)
+    return {"h": h, "tip_h": tip_h, "n_dofs": sol.n_dofs, "KI": res.KI, "KII": res.KII,
+            "spread": res.spread, "seconds": time.perf_counter() - t0}
+
+
+def figure(rows: dict, ref: tuple, path: Path) -> Path:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(10.0, 4.0))
+    g = f"{GRIDS[-1][0]}x{GRIDS[-1][1]}"
+    for k, (v, per_grid) in enumerate(rows.items()):
+        c = per_grid[g]["curve"]
+        for ax, key in zip(axes, ("KI", "KII"), strict=True):
+            ax.plot(c["radius"], c[key], "o-", ms=3, color=f"C{k}", label=LABELS[v])
+    for ax, key, i in zip(axes, ("K_I", "K_{II}"), (0, 1), strict=True):
+        ax.axhline(K_WILSON[i], color="k", ls="--", lw=0.8, label="Wilson (1969)")
+        ax.axhline(ref[i], color="k", ls=":", lw=0.8, label="converged (EFG PU / FEM)")
+        ax.set_xlabel("J-domain radius (in.)")
+        ax.set_ylabel(f"${key}$ (psi sqrt(in.))")
+        ax.set_title(f"${key}$, {GRIDS[-1][0]} x {GRIDS[-1][1]} nodes")
+    axes[0].set_ylim(K_WILSON[0] * 0.9, K_WILSON[0] * 1.05)
+    axes[1].set_ylim(K_WILSON[1] * 0.9, K_WILSON[1] * 1.05)
+    axes[1].legend(fontsize=7)
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return path
+
+
+def main(quick: bool = False, out_dir=None) -> dict:
+    rep = Report(NAME, quick)
+    rows = {v: {f"{nx}x{ny}": run(v, nx, ny, curve=not quick) for nx, ny in GRIDS} for v in VARIANTS}
+    extra = {}
+    if quick:  # the recorded reference, cross-checked by a coarse FE model
+        efg_ref, fem_ref = [], [fem_reference(0.5, 0.05)]
+        ref = K_CONVERGED
+    else:
+        efg_ref = [efg_reference(h) for h in EFG_REF]
+        fem_ref = [fem_reference(h, t) for h, t in FEM_REF]
+        ref = (efg_ref[-1]["KI"], efg_ref[-1]["KII"])
+        extra = {"extrinsic_mls, lambda = 2, 11x29": run_with("extrinsic_mls", dict(rule_power=2.0))}
+        for h in (0.7, 0.35, 0.175):  # intrinsic full on uniform grids: its disc, and efgkit's 4 h
+            extra[f"full, uniform h = {h:g}"] = run_with("full", dict(spacing=h), uniform=True)
+            extra[f"full (r2 = 4 h, r1 = 0), uniform h = {h:g}"] = run_with(
+                "full", dict(spacing=h, enrich_radius=None, ramp_inner=0.0), uniform=True)
+    rep.metrics.update({
+        "settings": {"W": W, "L": L, "a": A, "E": MAT.E, "nu": MAT.nu, "plane": MAT.plane,
+                     "radii": RADII, "q": "wendland_c2", "bc": "lagrange", "variants": VARIANTS},
+        "KI": {f"{v}/{g}": r["KI"] for v, d in rows.items() for g, r in d.items()},
+        "KII": {f"{v}/{g}": r["KII"] for v, d in rows.items() for g, r in d.items()},
+        "rows": rows, "seed_table_1": SEED, "reference_efg": efg_ref, "reference_fem": fem_ref,
+        "K_converged": ref, "studies": extra})
+    rep.ref("KI", K_WILSON[0], "Wilson (1969), quoted in seed 003 Sect. 5.6.2")
+    rep.ref("KII", K_WILSON[1], "Wilson (1969), quoted in seed 003 Sect. 5.6.2")
+    rep.ref("K_converged", list(ref), "EFG PU (lambda = 1) at h = 0.0875, this script's full mode; "
+            "in quick mode the value recorded from it")
+    rep.ref("seed_table_1", SEED, "seed 003 Table 1 (k1, k2 on 5 x 11 and 11 x 29 nodes)")
+    rep.ref("tolerance", TOL, "issue 4: enriched variants at 11 x 29 within 0.3 % of both K")
+    fine = f"{GRIDS[-1][0]}x{GRIDS[-1][1]}"
+    for v in ("extrinsic_mls", "full", "radial", "pu"):
+        r = rows[v][fine]
+        e_conv = max(abs(r["KI"] / ref[0] - 1), abs(r["KII"] / ref[1] - 1))
+        e_wil = max(abs(r["KI"] / K_WILSON[0] - 1), abs(r["KII"] / K_WILSON[1] - 1))
+        if not quick or v == "pu":
+            rep.check(f"{LABELS[v]}, {fine}: max relative K error against the converged reference",
+                      e_conv, "<=", TOL)
+        if not quick:
+            rep.check(f"{LABELS[v]}, {fine}: max relative K error against Wilson (1969)", e_wil,
+                      "<=", TOL)
+    fe = fem_ref[-1]
+    rep.check("FEM P2 quarter-point against the converged reference (max relative K difference)",
+              max(abs(fe["KI"] / ref[0] - 1), abs(fe["KII"] / ref[1] - 1)), "<=",
+              1e-3 if quick else 1e-4)
+    if not quick:
+        # the reference must be converged well below the 0.3 % target
+        rep.check("EFG reference converged (max relative K change, h = 0.175 -> 0.0875)",
+                  max(abs(efg_ref[0]["KI"] / ref[0] - 1), abs(efg_ref[0]["KII"] / ref[1] - 1)), "<=",
+                  1e-3)
+        rep.figures.append(str(figure(rows, ref, ROOT / "docs" / "figures" / f"{NAME}_K.png")))
+    return rep.write(out_dir)
+
+
+def markdown(record: dict) -> list[str]:
+    m = record["metrics"]
+    ref = m["K_converged"]
+    grids = list(next(iter(m["rows"].values())))
+    lines = [
+        "Seed 003 Sect. 5.6.2: plate 7 x 16, bottom clamped (Lagrange multipliers), shear "
+        "traction 1 on the top, edge crack a = 3.5 at mid-height, E = 3e7, nu = 0.25, plane "
+        "strain; evenly spaced grids of 5 x 11 and 11 x 29 nodes; K as the mean over J discs of "
+        f"radius {list(m['settings']['radii'])} about the tip (Wendland C2 q). Settings as in "
+        "`singular_patch`: linear d_max 2, diffraction lambda = 2; extrinsic MLS and PU "
+        "lambda = 1; intrinsic enrichment within r1 = 0.6 a = 2.1, ramped to r2 = 0.9 a = 3.15 "
+        "(full: d_max 3).", "",
+        "Table 1 side by side, efgkit (seed):", "",
+        "| nodes | " + " | ".join(f"{LABELS[v]} k1 | k2" for v in m["rows"]) + " |",
+        "|---|" + "---|---|" * len(m["rows"])]
+    for i, g in enumerate(grids):
+        cells = []
+        for v, d in m["rows"].items():
+            seed = m["seed_table_1"].get(v)
+            s1 = f" ({seed[i][0]:.2f})" if seed else ""
+            s2 = f" ({seed[i][1]:.2f})" if seed else ""
+            cells += [f"{d[g]['KI']:.2f}{s1}", f"{d[g]['KII']:.3f}{s2}"]
+        lines.append(f"| {g.replace('x', ' x ')} | " + " | ".join(cells) + " |")
+    lines += ["", f"Errors at {grids[-1]} against Wilson (34.0, 4.55) and against the converged "
+              f"reference ({ref[0]:.4f}, {ref[1]:.4f}); target 0.3 %:", "",
+              "| variant | K_I vs Wilson | K_II vs Wilson | K_I vs converged | K_II vs converged | "
+              "spread |", "|---|---|---|---|---|---|"]
+    for v, d in m["rows"].items():
+        r = d[grids[-1]]
+        lines.append(f"| {LABELS[v]} | {r['KI'] / 34.0 - 1:+.2%} | {r['KII'] / 4.55 - 1:+.2%} | "
+                     f"{r['KI'] / ref[0] - 1:+.2%} | {r['KII'] / ref[1] - 1:+.2%} | {r['spread']:.1e} |")
+    r = m["rows"]["extrinsic_mls"]
+    lines += ["", "Extrinsic MLS, the solution's own K (enrichment unknowns): " + ", ".join(
+        f"{g}: ({r[g]['KI_enriched']:.2f}, {r[g]['KII_enriched']:.3f})" for g in grids) + ".", "",
+        "Converged reference:", "", "| model | size | K_I | K_II | spread |", "|---|---|---|---|---|"]
+    for e in m["reference_efg"]:
+        lines.append(f"| EFG PU, uniform grid | h = {e['h']:g} ({e['n_nodes']} nodes) | {e['KI']:.4f} | "
+                     f"{e['KII']:.4f} | {e['spread']:.1e} |")
+    for e in m["reference_fem"]:
+        lines.append(f"| FEM P2 quarter-point | h = {e['h']:g}, tip {e['tip_h']:g} ({e['n_dofs']} DOFs) | "
+                     f"{e['KI']:.4f} | {e['KII']:.4f} | {e['spread']:.1e} |")
+    st = m["studies"]
+    fe = m["reference_fem"][-1]
+    agree = max(abs(fe["KI"] / ref[0] - 1), abs(fe["KII"] / ref[1] - 1))
+    lines += ["", "![K against the J-domain radius, 11 x 29 nodes](figures/shear_edge_crack_K.png)", "",
+              "Findings:", "",
+              f"- EFG (PU) and the quarter-point FE model agree on K_I = {ref[0]:.3f}, K_II = "
+              f"{ref[1]:.4f} to {agree:.0e}. Wilson's K_II = 4.55 is {4.55 / ref[1] - 1:.2%} above "
+              "it (his value is itself approximate), so a K_II within 0.3 % of both references "
+              "must lie in a narrow window.",
+              "- Extrinsic PU meets 0.3 % against the converged reference on 11 x 29 nodes; "
+              "against Wilson its K_II misses by about the gap between the references.",
+              "- Extrinsic MLS (global Williams fields, lambda = 1): see the error table; with "
+              "the efgkit default lambda = 2 it gives "
+              f"({st['extrinsic_mls, lambda = 2, 11x29']['KI']:.3f}, "
+              f"{st['extrinsic_mls, lambda = 2, 11x29']['KII']:.4f}) on 11 x 29. Its own K (the "
+              "enrichment unknowns) differ from the integral values by up to 1 %; the integral "
+              "values are the ones to use.",
+              "- The intrinsic bases (full and sqrt(r)) give K_I well below the reference (tables "
+              "above; the seed's are 0.4-6 % low too) and converge slowly. Intrinsic full on "
+              "uniform grids, "
+              "K_I: " + "; ".join(f"{k.split(', uniform ')[0]} at {k.split('uniform ')[1]}: "
+                                  + (f"{v['KI']:.2f}" if "KI" in v else "singular moment matrix")
+                                  for k, v in st.items() if k.startswith("full")) + ". "
+              "The fixed disc (r2 = 3.15 = 9 h at h = 0.35) fails on the finer grids: the 7-term "
+              "moment matrix turns singular some 10 spacings from the tip, where the branch "
+              "functions are nearly linear over a support, so the enriched disc must shrink with "
+              "h (efgkit's default r2 = 4 h does). On the singular patch, "
+              "whose exact field is the pure Williams field, the same bases are exact to 2e-4."]
+    return lines
+
+
+if __name__ == "__main__":
+    import json
+
+    res = main()
+    print(json.dumps({k: res["metrics"][k] for k in ("KI", "KII", "K_converged")}, indent=1))
+    print([c for c in res["checks"] if not c["passed"]])
