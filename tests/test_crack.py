@@ -1,11 +1,16 @@
-"""Crack geometry: tips and frames, extension, side convention, and bad cracks."""
+"""Crack geometry: tips and frames, extension, side convention, bad cracks; split face nodes,
+rosettes, tip degeneracies (tip on a node or a quadrature point) and crack-free scenes."""
 
 import math
+import warnings
 
 import numpy as np
 import pytest
 
-from efgkit import Crack, Domain, Elastic, Loop, Scene
+from efgkit import EFG, Crack, Domain, Elastic, Field, Loop, Rosette, Scene, Support, discretize, solve
+from efgkit.discretize import approximation
+from efgkit.nodes import generate_nodes
+from efgkit.search import find_neighbours
 
 MAT = Elastic(1.0, 0.3)
 PLATE = Domain.rectangle(0, 0, 2, 1)
@@ -100,3 +105,263 @@ def test_crossing_cracks_and_duplicate_names():
         Scene(PLATE, MAT, cracks=(a, Crack([[0.5, 0.8], [1.5, 0.8]], name="a")))
     with pytest.raises(ValueError, match=r"crack 'a' has no tip at end 2"):
         a.tip(2)
+
+
+# --- split face nodes, rosettes, tip degeneracies, scenes without cracks ------------------------
+
+SQUARE = Domain.rectangle(-1.0, -1.0, 1.0, 1.0)
+EDGE = Crack([[-1.0, 0.0], [0.0, 0.0]], (False, True), "edge")
+
+
+def test_nodes_on_a_crack_are_split_into_one_copy_per_face():
+    m = EFG(spacing=0.25)
+    plain = generate_nodes(SQUARE, m)
+    split = generate_nodes(SQUARE, m, (EDGE,))
+    on = (np.abs(plain.x[:, 1]) < 1e-12) & (plain.x[:, 0] < -1e-12)  # behind the tip, mouth included
+    assert on.sum() == 4
+    assert split.n == plain.n + on.sum()
+    # every original node is kept in place with its radius; the copies follow
+    np.testing.assert_array_equal(split.x[:plain.n], plain.x)
+    np.testing.assert_array_equal(split.radius[:plain.n], plain.radius)
+    copies = split.x[plain.n:]
+    np.testing.assert_array_equal(copies, plain.x[on])
+    np.testing.assert_array_equal(split.radius[plain.n:], plain.radius[on])
+    assert split.face[:plain.n][on].tolist() == [1] * 4 and split.face[plain.n:].tolist() == [-1] * 4
+    assert np.all(split.face[:plain.n][~on] == 0)
+    assert np.all(split.face_segment[split.face != 0] == 0)
+    assert np.all(split.face_segment[split.face == 0] == -1)
+    tip = np.flatnonzero(np.hypot(*split.x.T) < 1e-12)
+    assert len(tip) == 1 and split.face[tip[0]] == 0  # the node at the tip is not split
+
+
+def test_split_nodes_record_the_global_segment_index():
+    c1 = Crack([[-1.0, 0.5], [-0.5, 0.5]], (False, True), "a")
+    c2 = Crack([[0.5, -0.75], [0.0, -0.25], [0.25, 0.0]], (True, True), "b")  # kink on a grid node
+    nodes = generate_nodes(SQUARE, EFG(spacing=0.25), (c1, c2))
+    seg = {tuple(np.round(x, 9)): s for x, s, f in zip(nodes.x, nodes.face_segment, nodes.face, strict=True)
+           if f == 1}
+    # crack a, segment 0 (the mouth node included); crack b's first segment is global index 1;
+    # the kink vertex is assigned to the first segment holding it; tips are never split
+    assert seg == {(-1.0, 0.5): 0, (-0.75, 0.5): 0, (0.25, -0.5): 1, (0.0, -0.25): 1}
+    for s in (0, 1):  # each split node has exactly one partner on the other face
+        up = nodes.x[(nodes.face == 1) & (nodes.face_segment == s)]
+        lo = nodes.x[(nodes.face == -1) & (nodes.face_segment == s)]
+        np.testing.assert_array_equal(np.sort(up, axis=0), np.sort(lo, axis=0))
+
+
+@pytest.mark.xfail(strict=True, reason="efgkit bug: a node split at a kink vertex carries its face for "
+                   "one segment only (nodes._split_on_cracks) and crack_rules._crossings counts the "
+                   "touch at the segment end as a crossing: the right-face sector sees neither copy")
+@pytest.mark.parametrize("rule", ["visibility", "diffraction"])
+def test_split_node_at_a_kink_vertex_sees_its_face_sector(rule):
+    """Crack b turns right by 90 degrees at the grid node (0, -0.25): from the kink, the right
+    face is the sector (-45, 45) degrees and the left face the rest. Each copy of the node must
+    see the points of its own sector near it (measured: the right sector sees no copy, the
+    left copy sees only the 90 degrees between the two segments' left half-planes)."""
+    crack = Crack([[0.5, -0.75], [0.0, -0.25], [0.25, 0.0]], (True, True), "b")
+    sc = Scene(SQUARE, Elastic(1.0, 0.3), cracks=(crack,))
+    m = EFG(spacing=0.25, crack_rule=rule)
+    nodes = generate_nodes(SQUARE, m, sc.cracks)
+    ap = approximation(sc, m, nodes)
+    kink = np.array([0.0, -0.25])
+    th = np.radians(np.arange(-175.0, 180.0, 10.0))
+    x = kink + 0.1 * np.column_stack([np.cos(th), np.sin(th)])
+    nb = find_neighbours(x, nodes, ap.boxes)
+    mask, w, _ = ap.weights(x, nb, derivatives=False)
+    right = np.abs(th) < np.radians(45)
+    for k in np.flatnonzero(np.hypot(*(nodes.x - kink).T) < 1e-12):
+        wk = np.where((nb.idx == k) & mask, w, 0.0).sum(axis=1)
+        own = right if nodes.face[k] < 0 else ~right
+        assert np.all(wk[own] > 0) and np.all(wk[~own] == 0), (nodes.face[k], wk.round(2))
+
+
+def test_rosette_rings_counts_and_background_nodes():
+    ros = Rosette(0.2, rings=4, per_ring=9)
+    nodes = generate_nodes(SQUARE, EFG(spacing=0.125, rosette=ros), (EDGE,))
+    d = np.hypot(*nodes.x.T)
+    gap = ros.radius / ros.rings
+    assert np.sum(d < 1e-12) == 1  # one node at the tip
+    for k in range(1, ros.rings + 1):
+        ring = np.abs(d - k * gap) < 1e-9
+        assert ring.sum() == ros.per_ring  # per_ring - 1 angles, the one on the faces split
+        ang = np.sort(np.unique(np.round(np.arctan2(nodes.x[ring, 1], nodes.x[ring, 0]) % (2 * np.pi), 9)))
+        expect = np.sort(np.round((-np.pi + 2 * np.pi * np.arange(ros.per_ring - 1) / (ros.per_ring - 1))
+                                  % (2 * np.pi), 9))
+        np.testing.assert_allclose(ang, expect, atol=1e-8)
+        on_face = ring & (nodes.face != 0)
+        assert sorted(nodes.face[on_face].tolist()) == [-1, 1]
+    # background nodes inside the rosette (plus half a ring gap) are switched off
+    rings = np.any([np.abs(d - k * gap) < 1e-9 for k in range(1, ros.rings + 1)], axis=0)
+    inside = (d > 1e-12) & (d <= ros.radius + 0.5 * gap)
+    assert np.all(rings[inside])
+    grid = generate_nodes(SQUARE, EFG(spacing=0.125))
+    dg = np.hypot(*grid.x.T)
+    kept = grid.x[dg > ros.radius + 0.5 * gap]
+    assert len(kept) + 1 + ros.rings * (ros.per_ring - 1) + ros.rings + (
+        np.sum((np.abs(kept[:, 1]) < 1e-12) & (kept[:, 0] < 0))) == nodes.n
+
+
+def test_rosette_nodes_outside_the_body_are_dropped():
+    dom = Domain.rectangle(0.0, 0.0, 2.0, 1.0)
+    crack = Crack([[0.0, 0.5], [1.9, 0.5]], (False, True), "c")
+    ros = Rosette(0.2, rings=2, per_ring=9)
+    nodes = generate_nodes(dom, EFG(spacing=0.25, rosette=ros), (crack,))
+    assert np.all(dom.contains(nodes.x, tol=1e-12))
+    th = -np.pi + 2 * np.pi * np.arange(8) / 8
+    cand = np.array([[1.9 + r * np.cos(t), 0.5 + r * np.sin(t)] for r in (0.1, 0.2) for t in th])
+    outside = ~dom.contains(cand) | (dom.distance_to_boundary(cand) <= 1e-9 * dom.size)
+    # (2.1, 0.5), (2.04, 0.64), (2.04, 0.36) outside; (2.0, 0.5) on the boundary
+    assert outside.sum() == 4
+    rel = nodes.x - [1.9, 0.5]
+    d = np.hypot(*rel.T)
+    on_rings = (np.abs(d - 0.1) < 1e-9) | (np.abs(d - 0.2) < 1e-9)
+    assert on_rings.sum() == 2 * 8 - outside.sum() + 2  # + the split copies at theta = pi
+
+
+# Tip degeneracies (issue 3): a tip exactly on a node or on a quadrature point gives finite,
+# continuous results: moving the crack tip by 1e-10 of the spacing changes the solution by
+# less than 1e-6 (relative, max norm at points off the crack line).
+
+H = 0.25
+VARIANTS = {
+    "visibility": dict(crack_rule="visibility"),
+    "diffraction": dict(crack_rule="diffraction"),
+    "transparency": dict(crack_rule="transparency"),
+    "see_through": dict(crack_rule="see_through", d_max=2.01),
+    "extrinsic_mls": dict(enrichment="extrinsic_mls"),
+    "pu": dict(enrichment="pu", enrich_radius=10.0),
+    "full": dict(enrichment="full", d_max=3.0, enrich_radius=0.5, ramp_inner=0.25),
+}
+MOVES = ((1.0, 0.0), (0.0, 1.0), (-1.0, -1.0))
+_GAUSS = np.polynomial.legendre.leggauss(4)[0]
+AT_NODE = np.zeros(2)
+AT_GAUSS_POINT = np.array([-H + H * (1 + _GAUSS[0]) / 2, H * (1 + _GAUSS[2]) / 2])  # of cell [-h,0]x[0,h]
+ON_DIAGONAL = np.array([-H + H * (1 + _GAUSS[1]) / 2, H * (1 + _GAUSS[2]) / 2])  # also on y = -x
+
+
+def _patch(tip, field_tip):
+    f = Field.named("williams", KI=1.0, tip=tuple(field_tip))
+    return Scene(SQUARE, Elastic(1000.0, 0.3, "strain"),
+                 supports=tuple(Support(e, ux=f, uy=f) for e in ("bottom", "right", "top", "left")),
+                 cracks=(Crack([[-1.0, field_tip[1]], list(tip)], (False, True), "c"),), exact=f)
+
+
+def _probe(tip0):
+    x = np.random.default_rng(1).uniform(-0.95, 0.95, (300, 2))
+    return x[np.abs(x[:, 1] - tip0[1]) > 0.05]
+
+
+def _solution_change(variant, tip0):
+    m = EFG(spacing=H, bc="lagrange", **VARIANTS[variant])
+    xs = _probe(tip0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        u0 = solve(_patch(tip0, tip0), m).displacement(xs)
+        worst = 0.0
+        for d in MOVES:
+            tip = tip0 + 1e-10 * H * np.array(d) / np.hypot(*d)
+            u1 = solve(_patch(tip, tip0), m).displacement(xs)
+            assert np.all(np.isfinite(u1))
+            worst = max(worst, np.abs(u1 - u0).max() / np.abs(u0).max())
+    return worst
+
+
+NODE_XFAIL = {
+    "transparency": "efgkit bug: after the move the split face nodes lie 1e-11 off the crack line; the "
+    "tip fan then has sliver triangles between the crack and the nodes' shadow rays where the "
+    "transparency distance of a node 1e-11 from the crack has |grad phi| ~ 6e10 (its crossing point "
+    "is ill-defined): measured change 0.59",
+    "full": "efgkit bug: tip_functions.tip_coordinates honours a split node's face only within 1e-12 r "
+    "of the crack line, but nodes are split within 1e-6 h of it (nodes._split_on_cracks): after the "
+    "move both copies get theta = -pi and the enriched basis changes: measured change 7.9e-2",
+}
+
+
+@pytest.mark.parametrize("variant", [
+    pytest.param(v, marks=[pytest.mark.xfail(strict=True, reason=NODE_XFAIL[v])] if v in NODE_XFAIL else [])
+    for v in VARIANTS])
+def test_tip_on_a_node_solution_is_continuous_in_the_tip_position(variant):
+    """Measured 2026-11 (9 x 9 nodes, after the tip-fan fix of 272305a): <= 1e-10 for
+    visibility, diffraction, see-through (d_max 2.01), extrinsic MLS and PU; before it, the fans
+    of cells missing the moved tip by 1e-10 h overshot the area by 0.047 and every variant
+    changed by 6e-3 to 6e-1."""
+    assert _solution_change(variant, AT_NODE) < 1e-6
+
+
+@pytest.mark.parametrize("variant", VARIANTS)
+def test_tip_at_a_quadrature_point_solution_is_continuous_in_the_tip_position(variant):
+    """The tip at a Gauss point of the background cell rule (the cell becomes a fan, so no
+    quadrature point sits at the tip)."""
+    assert _solution_change(variant, AT_GAUSS_POINT) < 1e-6
+
+
+def test_visibility_is_discontinuous_when_quadrature_points_lie_on_a_shadow_line():
+    """The tip on the grid diagonal y = -x: nodes on the diagonal, the tip and Gauss points of
+    the symmetric cell rules are collinear, so those points sit on visibility's cut lines and
+    the solution depends on rounding. The smooth rules do not."""
+    assert _solution_change("visibility", ON_DIAGONAL) > 1e-4
+    assert _solution_change("diffraction", ON_DIAGONAL) < 1e-6
+
+
+@pytest.mark.parametrize("variant", [
+    pytest.param(v, marks=[pytest.mark.xfail(strict=True, reason=NODE_XFAIL["full"])]
+                 if v == "full" else []) for v in VARIANTS])
+def test_tip_on_a_node_shape_functions_are_continuous_in_the_tip_position(variant):
+    """The nodal trial functions alone (values and gradients at fixed points). The enrichment
+    columns of extrinsic MLS (Eq. 44b) and PU subtract the branch functions at the nodes,
+    which carry the theta bug of NODE_XFAIL["full"] too, but their span does not change."""
+    m = EFG(spacing=H, **VARIANTS[variant])
+    xs = _probe(AT_NODE)
+
+    def ops(tip):
+        sc = _patch(tip, AT_NODE)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UserWarning)
+            sh = approximation(sc, m, generate_nodes(sc.domain, m, sc.cracks)).shape(xs)
+        return np.hstack([sh.phi.toarray(), sh.dx.toarray(), sh.dy.toarray()])
+
+    base = ops(AT_NODE)
+    worst = max(np.abs(ops(1e-10 * H * np.array(d)) - base).max() for d in MOVES)
+    assert worst < 1e-6 * np.abs(base).max()
+
+
+def test_see_through_switches_when_a_support_boundary_passes_through_the_tip():
+    """With d_max = 2 on a grid the node two spacings behind the tip has the tip on its support
+    boundary: moving the tip by 1e-10 h toward it puts the tip inside its support and makes
+    the node see through the crack (and no longer split): the continuous-line criterion is
+    discontinuous in the geometry there (d_max = 2.01 avoids it)."""
+    m = EFG(spacing=H, crack_rule="see_through")
+    n0 = generate_nodes(SQUARE, m, (Crack([[-1.0, 0.0], [0.0, 0.0]], (False, True), "c"),)).n
+    n1 = generate_nodes(SQUARE, m, (Crack([[-1.0, 0.0], [-1e-10 * H, 0.0]], (False, True), "c"),)).n
+    assert n1 == n0 - 1
+
+
+def test_no_quadrature_point_at_a_tip_and_weights_sum_to_the_area():
+    for tip in (AT_NODE, AT_GAUSS_POINT, np.array([-0.5 * H, 0.0])):  # node, Gauss point, cell edge
+        sc = _patch(tip, tip)
+        disc = discretize(sc, EFG(spacing=H, bc="lagrange"))
+        assert np.hypot(*(disc.points.x - tip).T).min() > 1e-6 * H
+        assert abs(disc.points.w.sum() - 4.0) < 1e-12
+        sol = solve(sc, EFG(spacing=H, bc="lagrange"))
+        assert np.all(np.isfinite(sol.stress())) and np.isfinite(sol.displacement([tip])).all()
+
+
+def test_a_scene_without_cracks_runs_no_crack_code(monkeypatch):
+    import efgkit.approx.approximation as approx_mod
+    import efgkit.approx.crack_rules as rules_mod
+
+    def boom(*args, **kwargs):
+        raise AssertionError("crack code called for a scene without cracks")
+
+    monkeypatch.setattr(approx_mod, "crack_distances", boom)
+    monkeypatch.setattr(rules_mod, "crack_distances", boom)
+    monkeypatch.setattr(rules_mod, "crack_weights", boom)
+    monkeypatch.setattr(rules_mod.CrackLines, "distance", boom)
+    monkeypatch.setattr(rules_mod.CrackLines, "from_cracks", classmethod(boom))
+    sc = Scene(SQUARE, Elastic(1.0, 0.3), supports=(Support("left", ux=0.0, uy=0.0),),
+               tractions=())
+    disc = discretize(sc, EFG(spacing=0.25))
+    assert disc.approx.lines is None and disc.approx.rule is None and disc.approx.enrichment is None
+    assert disc.nodes.face is None and disc.nodes.face_segment is None
+    sol = solve(sc, EFG(spacing=0.25, bc="lagrange"))
+    assert np.all(np.isfinite(sol.displacement(np.array([[0.1, 0.2]]))))
