@@ -195,7 +195,7 @@ def approximation(scene: Scene, method: EFG, nodes: NodeCloud,
         lines = CrackLines.from_cracks(scene.cracks)
         rule = CrackRule(method.crack_rule, method.rule_power, method.kappa, method.spacing)
         if method.crack_rule == "transparency":
-            _warn_close_to_crack(nodes, lines, method.spacing)
+            _warn_close_to_crack(nodes, lines, method.spacing, method.enrichment)
         if method.enrichment != "none":
             if method.crack_rule == "visibility":
                 raise ValueError(
@@ -206,6 +206,14 @@ def approximation(scene: Scene, method: EFG, nodes: NodeCloud,
                     "on 9, 17, 25 node grids of the singular patch, docs/theory.md). Use "
                     "crack_rule='diffraction' (seed 003 uses it with enrichment), "
                     "'transparency' or 'see_through'.")
+            if method.crack_rule == "see_through" and method.enrichment in ("radial", "full"):
+                raise ValueError(
+                    f"enrichment={method.enrichment!r} with crack_rule='see_through' is not "
+                    "supported: see-through lets the nodes whose supports hold the tip see across "
+                    "the crack, and the ramped linear part of an intrinsic basis then shortens the "
+                    "crack as see-through does alone (seed 003 Sect. 4.4; singular patch energy "
+                    "error 0.76-1.1 against 0.28 with diffraction). Use crack_rule='diffraction', "
+                    "or an extrinsic enrichment, which works with see-through.")
             tips = [TipGeometry.of(c, e) for c in scene.cracks for e in (0, 1) if c.tips[e]]
             r2 = method.ramp_outer
             if method.enrichment == "extrinsic_mls":
@@ -241,12 +249,20 @@ def _check_global_fields(scene: Scene) -> None:
                 "enrich_radius (smaller than the crack length) to ramp them to zero.")
 
 
-def _warn_close_to_crack(nodes: NodeCloud, lines: CrackLines, h: float) -> None:
+def _warn_close_to_crack(nodes: NodeCloud, lines: CrackLines, h: float, enrichment: str) -> None:
     """Seed 003 Sect. 4.3: transparency needs nodes at least h/4 from the crack surface
-    (split face nodes included; nodes at a tip excepted)."""
+    (split face nodes included; nodes at a tip excepted): a warning, and an error with an
+    extrinsic enrichment, which such nodes spoil."""
     close = lines.distance(nodes.x) < 0.25 * h
     for tip in lines.tip_positions():
         close &= np.hypot(*(nodes.x - tip).T) > 1e-6 * h
+    if close.any() and enrichment in ("extrinsic_mls", "pu"):
+        raise ValueError(
+            f"enrichment={enrichment!r} with crack_rule='transparency' and {int(close.sum())} "
+            f"node(s) closer than h/4 to a crack surface is not supported: such nodes cannot see "
+            "ahead of the tip across the crack line's extension (seed 003 Sect. 4.3), which the "
+            "enriched fields turn into a wrong K (extrinsic K_I 0.62 on the singular patch). Put "
+            "the crack between node rows or use crack_rule='diffraction'.")
     if close.any():
         k = int(np.flatnonzero(close)[0])
         warnings.warn(

@@ -260,6 +260,14 @@ def _split_on_cracks(cloud: NodeCloud, cracks, spacing: np.ndarray, keep_single:
         at_tip |= (d <= 1e-6 * spacing) | (keep_single & (d < cloud.radius))
     seg_of[at_tip] = -1
     split = np.flatnonzero(seg_of >= 0)
+    # put the split nodes exactly on their segment (they were within 1e-6 h of it): a node a
+    # hair off the line would see across it by rounding and give slivers in the tip fans
+    segs = np.concatenate([c.segments for c in cracks])[seg_of[split]]
+    ab = segs[:, 1] - segs[:, 0]
+    t = np.clip(np.einsum("nd,nd->n", x[split] - segs[:, 0], ab) / np.einsum("nd,nd->n", ab, ab),
+                0.0, 1.0)
+    x = x.copy()
+    x[split] = segs[:, 0] + t[:, None] * ab
     order = np.concatenate([np.arange(len(x)), split])
     face = np.zeros(len(order), np.int8)
     face[split] = 1

@@ -3,6 +3,8 @@
 import importlib.util
 from pathlib import Path
 
+import pytest
+
 BENCH = Path(__file__).resolve().parents[1] / "benchmarks"
 
 
@@ -12,3 +14,32 @@ def test_core_benchmark_quick_runs():
     spec.loader.exec_module(mod)
     res = mod.main(["--quick", "--repeat", "1", "--no-write"])
     assert res["mls"][0]["n_points"] > 0 and res["end_to_end"]["solver"]["residual"] < 1e-8
+
+
+def test_work_precision_quick_runs_and_reports_every_curve():
+    spec = importlib.util.spec_from_file_location("bench_wp", BENCH / "work_precision.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    res = mod.main(["--quick", "--repeat", "1", "--no-write"])
+    for problem, r in res["problems"].items():
+        assert set(r["curves"]) == {f"EFG {v}" for v in mod.VARIANTS} | {
+            "FEM P2 graded, quarter-point", "FEM P2 uniform"}, problem
+        for pts in r["curves"].values():
+            assert all(p["error"] >= 0 and p["seconds"] > 0 for p in pts if "error" in p)
+        # the prescribed Williams field has K_I = 1 (seed 003 Sect. 5.6.1); SENT: J of a finer mesh
+        assert r["reference"] == 1.0 if problem == "singular patch" else r["reference"] > 0
+        # graded quarter-point P2 reaches 0.1 % on both problems even at quick sizes
+        # (measured: K_I error 2e-4 at 3.6k DOFs, J error 2e-5 at 11k DOFs)
+        assert r["time_to_target"]["FEM P2 graded, quarter-point"]["seconds"] is not None
+    md = mod.markdown(res, "cmd")
+    assert "## SENT" in md and "Time to 0.1 % error" in md
+
+
+def test_time_to_target_interpolates_in_log_log():
+    spec = importlib.util.spec_from_file_location("bench_wp", BENCH / "work_precision.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    pts = [{"seconds": 1.0, "error": 1e-2}, {"seconds": 100.0, "error": 1e-4}]
+    assert mod.time_to(pts)["seconds"] == pytest.approx(10.0)  # midway in log error and log time
+    assert mod.time_to(pts[1:]) == {"seconds": 100.0, "bound": "<="}
+    assert mod.time_to(pts[:1])["bound"] == "not reached"

@@ -184,3 +184,28 @@ def test_plot_mesh_draws_faces_and_tips():
     assert len(red) >= 2  # crack-face segments and the tip marker
     fig2, ax2 = plt.subplots()
     assert plot_mesh(_mesh("square"), ax=ax2) is fig2
+
+
+@pytest.mark.parametrize("fan", [0, 6, 12])
+def test_tip_fan_vertices_surround_every_tip(fan):
+    scene = Scene(Domain.rectangle(-1, -1, 1, 1), Elastic(1.0, 0.3),
+                  cracks=(Crack([[-0.5, 0.0], [0.5, 0.0]], name="c"),))
+    m = mesh_scene(scene, 0.25, tip_h=0.02, tip_fan=fan)
+    for node in m.tip_nodes:
+        count = np.any(m.t == node, axis=1).sum()
+        assert count == fan if fan else 4 <= count <= 8  # Triangle alone leaves 4-8
+        if fan:  # n - 1 fan vertices at one distance (<= tip_h) and the two on the crack faces
+            ring = np.setdiff1d(m.t[np.any(m.t == node, axis=1)], [node])
+            d = np.linalg.norm(m.x[ring] - m.x[node], axis=1)
+            _, counts = np.unique(np.round(d / 0.02, 9), return_counts=True)
+            assert counts.max() >= fan - 1 and d.min() <= 0.02
+
+
+def test_tip_fan_and_refine_are_validated():
+    scene = Scene(Domain.rectangle(0, 0, 1, 1), Elastic(1.0, 0.3))
+    with pytest.raises(ValueError, match="tip_fan must be 0"):
+        mesh_scene(scene, 0.5, tip_fan=2)
+    with pytest.raises(ValueError, match=r"refine point \[2.0, 2.0\]"):
+        mesh_scene(scene, 0.5, 0.1, refine=[[2.0, 2.0]])
+    m = mesh_scene(scene, 0.5, 0.05, refine=[[0.5, 0.5]])
+    assert np.min(np.linalg.norm(m.x - 0.5, axis=1)) < 1e-12 and m.size.min() < 0.08

@@ -20,8 +20,9 @@ Conventions that make every test deterministic:
   (:meth:`efgkit.crack.Crack.side`);
 * a crack segment is open at a tip: a ray through the tip itself does not
   cross, so a node at the tip sees every point of its support;
-* nodes split on a crack (``NodeCloud.face``, ``face_segment``) are on the
-  face their sign says, for the segment they lie on;
+* nodes split on a crack (``NodeCloud.face``, ``face_segment``) look from
+  ``1e-7 d_mI`` off the crack on their face (at a kink vertex, into their face's
+  sector), so ordinary crossing tests separate the two copies;
 * nodes within ``1e-7 d_mI`` of a tip are taken to be at the tip, so that a
   tip moved by a tiny amount across a node changes nothing.
 
@@ -44,6 +45,7 @@ __all__ = ["CRACK_RULES", "CrackLines", "CrackRule", "crack_distances", "crack_w
 
 CRACK_RULES = ("visibility", "diffraction", "transparency", "see_through")
 TIP_SNAP = 1e-7  # nodes closer than this fraction of their support radius to a tip are at it
+SIGHT_OFFSET = 1e-7  # split nodes look from this fraction of their support radius off the crack
 
 
 @dataclass(frozen=True)
@@ -139,16 +141,16 @@ def _cross(u, v):
     return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
 
 
-def _crossings(xq, xn, lines: CrackLines, s: int, node_face):
+def _crossings(xq, xn, lines: CrackLines, s: int):
     """Whether [x_I, x] crosses segment ``s``, and the crossing parameter t with dt/dx.
 
-    ``xq, xn (P, 2)``; ``node_face (P,)`` int: the node's face on this segment
-    (+-1) or 0. Returns hit (P,), t (P,), dt (P, 2).
+    ``xq, xn (P, 2)`` (``xn`` the nodes' sight positions). Returns hit (P,),
+    t (P,), dt (P, 2).
     """
     a, b = lines.a[s], lines.b[s]
     e = b - a
     side_x = np.where(_cross(e, xq - a) >= 0, 1, -1)
-    side_n = np.where(node_face != 0, node_face, np.where(_cross(e, xn - a) >= 0, 1, -1))
+    side_n = np.where(_cross(e, xn - a) >= 0, 1, -1)
     v = xq - xn
     num = _cross(xn - a, v)
     den = _cross(e, v)
@@ -198,25 +200,46 @@ def wrap_distance(d, dd, xq, xn, xc, s0, ds0, lam: float, ok):
     return np.where(ok, f * d, d), np.where(ok[:, None], new_dd, dd)
 
 
+def sight_positions(xn, dm, I, nodes: NodeCloud, lines: CrackLines) -> np.ndarray:
+    """Where the nodes ``xn (P, 2)`` look from: split nodes are moved onto their face by
+    ``SIGHT_OFFSET d_mI`` along the face normal (at a kink vertex, along the bisector of
+    the two segments' normals, so that each copy sees its own sector), and nodes within
+    ``TIP_SNAP d_mI`` of a tip sit on it. Only the sight tests use these positions."""
+    sight = xn.copy()
+    if nodes.face is not None:
+        split = np.flatnonzero(nodes.face[I] != 0)
+        if len(split):
+            seg = nodes.face_segment[I[split]]
+            e = lines.b - lines.a
+            normal = np.column_stack([-e[:, 1], e[:, 0]]) / lines.length[:, None]
+            direction = normal[seg].copy()
+            p = xn[split]
+            for nxt, end in ((1, lines.b), (-1, lines.a)):  # a kink vertex: add the neighbour's
+                other = np.clip(seg + nxt, 0, lines.n - 1)
+                kink = ((other != seg) & (lines.crack[other] == lines.crack[seg])
+                        & (np.hypot(*(p - end[seg]).T) <= 1e-9 * lines.length[seg]))
+                direction[kink] += normal[other[kink]]
+            direction /= np.hypot(*direction.T)[:, None]
+            sight[split] += (SIGHT_OFFSET * dm[split] * nodes.face[I[split]])[:, None] * direction
+    for tip in lines.tip_positions():
+        near = np.hypot(*(xn - tip).T) < TIP_SNAP * dm
+        sight[near] = tip
+    return sight
+
+
 def crack_distances(xq, xn, dm, I, nodes: NodeCloud, lines: CrackLines, rule: CrackRule):
     """Rule-modified distances of the pairs (x_q, x_I): cut (P,), d (P,), dd/dx (P, 2).
 
     ``xq, xn (P, 2)`` are the pairs' points and nodes, ``dm (P,)`` the support
     radii, ``I (P,)`` the node indices (for the split-node faces).
     """
-    # nodes at a tip (to within TIP_SNAP d_m) sit exactly on it for the sight tests
-    sight = xn.copy()
-    for tip in lines.tip_positions():
-        near = np.hypot(*(xn - tip).T) < TIP_SNAP * dm
-        sight[near] = tip
-    face = np.zeros(len(I), np.int64) if nodes.face is None else nodes.face[I]
-    fseg = np.full(len(I), -1) if nodes.face_segment is None else nodes.face_segment[I]
+    sight = sight_positions(xn, dm, I, nodes, lines)
     n_cracks = len(lines.ends)
     hits = np.zeros((len(I), n_cracks), np.int64)
     sc = np.full(len(I), np.inf)  # transparency: arc distance of the crossing from the tip
     dsc = np.zeros((len(I), 2))
     for s in range(lines.n):
-        hit, t, dt = _crossings(xq, sight, lines, s, np.where(fseg == s, face, 0))
+        hit, t, dt = _crossings(xq, sight, lines, s)
         if not hit.any():
             continue
         hits[:, lines.crack[s]] += hit

@@ -32,6 +32,7 @@ from scipy.sparse import csr_array
 
 from .bases import basis as poly_basis
 from .bases import basis_origin_gradient, basis_size
+from .crack_rules import TIP_SNAP
 from .mls import RCOND_MIN, SingularMomentMatrix, moment_shape
 from .shape import Extra, Shape
 from .tip_functions import TipGeometry, branch_functions, ramp, tip_coordinates, williams_modes
@@ -100,10 +101,11 @@ class Enrichment:
         if kind == "extrinsic_mls":
             node_q = np.zeros((len(tips), nodes.n, 2, 2))
             for t, g in enumerate(tips):
-                r, th, gr, gt = tip_coordinates(nodes.x, g, nodes.face)
-                F, dF = branch_functions(r, th, gr, gt, "full")
-                node_q[t] = williams_modes(F, dF, g, material.mu, material.kappa)[0]
+                F = node_branch(nodes, np.arange(nodes.n), g, "full")
+                node_q[t] = williams_modes(F, np.zeros((nodes.n, 2, 4)), g, material.mu,
+                                           material.kappa)[0]
                 if np.isfinite(r2):
+                    r, _, gr, _ = tip_coordinates(nodes.x, g)
                     node_q[t] *= ramp(r, gr, r1, r2, ramp_kind)[0][:, None, None]
             return cls(kind, tips, r1, r2, ramp_kind, material.mu, material.kappa, node_q=node_q)
         if kind != "pu":
@@ -118,9 +120,7 @@ class Enrichment:
         vals = np.zeros((len(sel), 4))
         for t, g in enumerate(tips):
             on = near[sel] == t
-            side = None if nodes.face is None else nodes.face[sel[on]]
-            r, th, gr, gt = tip_coordinates(nodes.x[sel[on]], g, side)
-            vals[on] = branch_functions(r, th, gr, gt, "full")[0]
+            vals[on] = node_branch(nodes, sel[on], g, "full")
         return cls(kind, tips, r1, r2, ramp_kind, material.mu, material.kappa, sel, near[sel], vals)
 
     def nearest_tip(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -128,6 +128,19 @@ class Enrichment:
         d = np.stack([np.hypot(*(x - g.tip.x).T) for g in self.tips], axis=1)
         k = np.argmin(d, axis=1)
         return k, d[np.arange(len(x)), k]
+
+
+def node_branch(nodes, index: np.ndarray, geom: TipGeometry, kind: str):
+    """Branch functions at the nodes ``index`` (split nodes on their face), shape (m, k).
+
+    Nodes within ``TIP_SNAP`` of their support radius from the tip count as at it
+    (F = 0): sqrt(r) is not Lipschitz, and a tip moved by 1e-10 h off a node would
+    otherwise change the node's values by 1e-5 (the crack rules snap the same way).
+    """
+    side = None if nodes.face is None else nodes.face[index]
+    r, th, gr, gt = tip_coordinates(nodes.x[index], geom, side)
+    F = branch_functions(r, th, gr, gt, kind)[0]
+    return np.where((r < TIP_SNAP * nodes.radius[index])[:, None], 0.0, F)
 
 
 def _check_off_tip(x, r, geom: TipGeometry, scale: float):
@@ -169,10 +182,8 @@ def blend_intrinsic(x, nodes, nb, w, dw, lin, enr: Enrichment, tip: int, basis: 
         _check_off_tip(x, r, geom, float(scale.max()))
     F0, dF0 = branch_functions(r, th, gr, gt, enr.kind)
     used = np.unique(nb.idx[nb.mask])
-    side = None if nodes.face is None else nodes.face[used]
-    rn, tn, grn, gtn = tip_coordinates(nodes.x[used], geom, side)
     Fn = np.zeros((nodes.n, F0.shape[1]))
-    Fn[used] = branch_functions(rn, tn, grn, gtn, enr.kind)[0]
+    Fn[used] = node_branch(nodes, used, geom, enr.kind)
     sq = np.sqrt(scale)[:, None, None]
     X = (nodes.x[nb.idx] - x[:, None, :]) / scale[:, None, None]
     P = np.concatenate([poly_basis(basis, X), (Fn[nb.idx] - F0[:, None, :]) / sq], axis=2)

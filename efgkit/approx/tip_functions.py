@@ -104,7 +104,10 @@ def tip_coordinates(x: np.ndarray, geom: TipGeometry, side: np.ndarray | None = 
             J[behind] = us[:, :, None] * u[:, None, :] + C[:, None, None] * vs[:, :, None] * v[:, None, :]
     r = np.hypot(*loc.T)
     theta = np.arctan2(loc[:, 1], loc[:, 0])
-    on_face = (loc[:, 0] < 0) & (np.abs(loc[:, 1]) <= 1e-12 * r)
+    # on the crack line behind the tip: to rounding for points, to the 1e-6 of the node
+    # splitting for split nodes (side != 0)
+    tol = 1e-12 if side is None else np.where(np.asarray(side) != 0, 1e-6, 1e-12)
+    on_face = (loc[:, 0] < 0) & (np.abs(loc[:, 1]) <= tol * r)
     if on_face.any():
         left = np.ones(n) if side is None else np.where(np.asarray(side) < 0, -1.0, 1.0)
         upper = left > 0 if geom.upper_is_left else left < 0
