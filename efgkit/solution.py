@@ -121,6 +121,27 @@ class Solution:
                                   spread_tol=spread_tol, enriched=kk))
         return tuple(out)
 
+    def near_tip_estimates(self, tip, r=None) -> dict:
+        """Quick estimates of (K_I, K_II) at a tip, for comparison with :meth:`sifs`.
+
+        ``"stress_0"`` and ``"stress_90"``: from the stresses on the rays theta = 0 and
+        90 degrees, averaged over the two points nearest the tip (seed 000 Eqs. 5.2-5.5);
+        ``"cod"``: the crack-opening displacement behind the tip extrapolated to r = 0
+        (:mod:`efgkit.fracture.extrapolation`). ``r`` are the sample distances (default:
+        1 to 6 spacings at the tip).
+        """
+        from .fracture.extrapolation import cod_sif, near_tip_sif, ray_points
+
+        h = self.tip_spacing(tip)
+        r = h * np.arange(1.0, 7.0) if r is None else np.asarray(r, dtype=float)
+        up = np.array([-np.sin(tip.angle), np.cos(tip.angle)])  # the upper face's side (e2)
+        face = {s: self.displacement(ray_points(tip, r, np.pi) + s * 1e-7 * h * up)
+                for s in (1.0, -1.0)}
+        return {"stress_0": near_tip_sif(tip, r, self.stress(ray_points(tip, r, 0.0)), 0.0),
+                "stress_90": near_tip_sif(tip, r, self.stress(ray_points(tip, r, np.pi / 2)),
+                                          np.pi / 2),
+                "cod": cod_sif(tip, r, face[1.0], face[-1.0], self.scene.material)}
+
     def stress(self, x=None) -> np.ndarray:
         """Stress (xx, yy, xy) at points ``x (n, 2)``, shape (n, 3)."""
         return self.strain(x) @ self.scene.material.D.T
