@@ -172,15 +172,17 @@ def plot_stress(solution, component: str = "von_mises", ax=None, n_target: int =
 
 
 def plot_domain_dependence(results, ax=None):
-    """K_I and K_II against the J-domain radius, one pair of lines per tip.
+    """K_I and K_II against the J-domain radius, one pair of lines per tip, and J beside.
 
     Parameters
     ----------
     results : TipResult or sequence of TipResult
         From :func:`efgkit.fracture.sif.tip_result`; each domain's
         values are drawn as markers joined by lines (K_I solid, K_II dashed)
-        and the mean over the domains as a dotted level.
+        and the mean over the domains as a dotted level. Without ``ax`` a
+        second panel shows J against the radius (seed 001 Fig. 15).
     ax : matplotlib Axes, optional
+        Draw K only, into these axes.
 
     Returns
     -------
@@ -200,10 +202,11 @@ def plot_domain_dependence(results, ax=None):
     items = [results] if hasattr(results, "domains") else list(results)
     if not items or not all(hasattr(r, "domains") and hasattr(r, "tip") for r in items):
         raise TypeError("results must be a TipResult or a non-empty sequence of TipResult")
+    ax_j = None
     if ax is None:
         import matplotlib.pyplot as plt
 
-        fig, ax = plt.subplots(figsize=(6.0, 4.0))
+        fig, (ax, ax_j) = plt.subplots(1, 2, figsize=(10.0, 4.0))
     else:
         fig = ax.figure
     for k, res in enumerate(items):
@@ -215,8 +218,17 @@ def plot_domain_dependence(results, ax=None):
                 label=f"{res.tip.id}: $K_{{II}}$")
         ax.axhline(res.KI, color=colour, ls=":", lw=0.8)
         ax.axhline(res.KII, color=colour, ls=":", lw=0.8)
+        if ax_j is not None:
+            ax_j.plot(radius, [d.J for d in res.domains], "o-", color=colour, label=res.tip.id)
+            ax_j.axhline(res.J, color=colour, ls=":", lw=0.8)
     ax.set_xlabel("J-domain radius")
     ax.set_ylabel("stress intensity factor")
     ax.set_title("domain dependence of K")
     ax.legend(fontsize="small")
+    if ax_j is not None:
+        ax_j.set_xlabel("J-domain radius")
+        ax_j.set_ylabel("J")
+        ax_j.set_title("domain dependence of J")
+        ax_j.legend(fontsize="small")
+        fig.tight_layout()
     return fig
