@@ -225,7 +225,12 @@ def plot_domain_dependence(results, ax=None):
     ax.set_ylabel("stress intensity factor")
     ax.set_title("domain dependence of K")
     ax.legend(fontsize="small")
-    if ax_j is not None:
+    if ax_j is not None:  # at least +-2% around the values: a flat line reads as flat
+        js = np.array([d.J for r in items for d in r.domains])
+        lo, hi, mid = js.min(), js.max(), 0.5 * (js.min() + js.max())
+        half = max(0.5 * (hi - lo), 0.02 * abs(mid))
+        ax_j.set_ylim(mid - 1.1 * half, mid + 1.1 * half)
+        ax_j.ticklabel_format(axis="y", useOffset=False)
         ax_j.set_xlabel("J-domain radius")
         ax_j.set_ylabel("J")
         ax_j.set_title("domain dependence of J")
