@@ -43,3 +43,7 @@ def test_time_to_target_interpolates_in_log_log():
     assert mod.time_to(pts)["seconds"] == pytest.approx(10.0)  # midway in log error and log time
     assert mod.time_to(pts[1:]) == {"seconds": 100.0, "bound": "<="}
     assert mod.time_to(pts[:1])["bound"] == "not reached"
+    # a lucky coarse point below the target does not count when a finer one is above it again
+    wobbly = [{"seconds": 1.0, "error": 1e-4}, {"seconds": 2.0, "error": 1e-2},
+              {"seconds": 20.0, "error": 1e-4}]
+    assert mod.time_to(wobbly)["seconds"] == pytest.approx(2.0 * 10**0.5)

@@ -1,0 +1,323 @@
+"""Work against accuracy: error of K (singular patch) and of J (SENT) against wall time, for
+EFG variants and scikit-fem P2, written to docs/performance_work_precision.md.
+
+Run:  python benchmarks/work_precision.py            (full, ~15 minutes)
+      python benchmarks/work_precision.py --quick    (a smoke run, small sizes)
+
+Every point is the wall time (time.perf_counter) of the whole pipeline from the scene to
+the stress intensity factors: discretisation or meshing, assembly, solve and the domain
+integrals, the median of ``--repeat`` runs (one run for points above 5 s), all measured
+in this run after a warm-up that compiles the numba kernels. Problems:
+
+* singular patch (seed 003 Sect. 5.6.1): [-1, 1]^2, edge crack to the origin, the exact
+  mode-I Williams field (K_I = 1) prescribed on the boundary; error |K_I - 1|;
+* SENT of seed 001 (verification/sent.py): error |J / J_ref - 1| with J_ref from a finer
+  graded P2 mesh than any timed one.
+
+Each curve is refined until its error falls below 0.01 % or its sizes run out.
+Headline: for each EFG variant, the time to reach 0.1 % error (log-log interpolation
+between the bracketing points) divided by that of graded P2 with quarter-point tips.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import platform
+import statistics
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+from efgkit import EFG, Crack, Domain, Elastic, Field, Rosette, Scene, Support, solve
+from efgkit.fem import FEM, solve_fem
+
+ROOT = Path(__file__).resolve().parents[1]
+TARGET = 1e-3  # 0.1 % error
+L, W, D = 50.0, 10.0, 0.0253882  # SENT, seed 001 Sect. 4 (mm)
+
+VARIANTS = {  # EFG options beyond the spacing; Nitsche supports (bc="variational")
+    "linear + rosette": lambda h: {"rosette": Rosette(h)},
+    "radial": lambda h: {"enrichment": "radial"},
+    "full intrinsic": lambda h: {"enrichment": "full", "d_max": 3.0},
+    "extrinsic MLS": lambda h: {"enrichment": "extrinsic_mls"},
+    "PU": lambda h: {"enrichment": "pu"},
+}
+
+
+def patch_scene() -> Scene:
+    f = Field.named("williams", KI=1.0)
+    return Scene(Domain.rectangle(-1, -1, 1, 1), Elastic(1.0, 0.3, "strain"),
+                 supports=tuple(Support(e, ux=f, uy=f) for e in ("left", "bottom", "right", "top")),
+                 cracks=(Crack([[-1.0, 0.0], [0.0, 0.0]], tips=(False, True), name="crack"),),
+                 name="singular patch")
+
+
+def sent_scene() -> Scene:
+    crack = Crack([[L / 2, 0.0], [L / 2, W / 2]], tips=(False, True), name="crack")
+    return Scene(Domain.rectangle(0.0, 0.0, L, W), Elastic(210e3, 0.3, "strain"),
+                 supports=(Support("left", ux=-D, uy=0.0), Support("right", ux=D, uy=0.0)),
+                 cracks=(crack,), name="SENT")
+
+
+PROBLEMS = {  # scene, J-domain radii, EFG spacings (full, quick), FEM sizes (full, quick)
+    "singular patch": {
+        "scene": patch_scene, "radii": (0.4, 0.6, 0.8),
+        "efg": (2.0 / np.array([3, 4, 8, 16, 32, 64]), 2.0 / np.array([4, 8])),
+        "efg_full_intrinsic_max": 16,  # finer grids: singular 7-term moment matrices (see report)
+        "graded": (((2.0, 1.0), (1.0, 0.5), (1.0, 0.2), (0.5, 0.1), (0.5, 0.05), (0.25, 0.02),
+                    (0.25, 0.005)), ((1.0, 0.2), (0.5, 0.05))),
+        "uniform": ((0.5, 0.25, 0.125, 0.0625, 0.03125, 0.015625), (0.5, 0.25))},
+    "SENT": {
+        "scene": sent_scene, "radii": (1.0, 2.0, 3.0, 4.0),
+        "efg": (W / np.array([5, 10, 20, 40, 80]), W / np.array([5, 10])),
+        "efg_full_intrinsic_max": 40,
+        "graded": (((4.0, 1.0), (4.0, 0.5), (2.0, 0.2), (1.0, 0.1), (1.0, 0.05), (0.5, 0.02), (0.25, 0.01)),
+                   ((4.0, 1.0), (2.0, 0.2))),
+        "uniform": ((2.0, 1.0, 0.5, 0.25, 0.125), (2.0, 1.0))},
+}
+
+
+def _error(problem: str, res, ref: float) -> float:
+    return abs(res.KI - 1.0) if problem == "singular patch" else abs(res.J / ref - 1.0)
+
+
+def _timed(fn, repeat: int) -> tuple[float, object, int]:
+    """Median seconds of up to ``repeat`` calls (one if the first takes > 5 s), result, count."""
+    times, out = [], None
+    for k in range(repeat):
+        t0 = time.perf_counter()
+        out = fn()
+        times.append(time.perf_counter() - t0)
+        if k == 0 and times[0] > 5.0:
+            break
+    return statistics.median(times), out, len(times)
+
+
+def efg_point(sc, problem: str, variant: str, h: float, ref: float, repeat: int) -> dict:
+    radii = PROBLEMS[problem]["radii"]
+    method = EFG(spacing=float(h), bc="variational", **VARIANTS[variant](h))
+    t, (n, res), k = _timed(lambda: (lambda s: (s.nodes.n, s.sifs(radii=radii)[0]))(solve(sc, method)),
+                            repeat)
+    return {"h": float(h), "n_nodes": n, "n_dofs": 2 * n, "seconds": t, "runs": k,
+            "error": _error(problem, res, ref)}
+
+
+def fem_point(sc, problem: str, h: float, tip_h, ref: float, repeat: int) -> dict:
+    radii = PROBLEMS[problem]["radii"]
+    fem = FEM(h, tip_h=tip_h, quarter_point=tip_h is not None)
+    t, (n, res), k = _timed(lambda: (lambda s: (s.n_dofs, s.sifs(radii=radii)[0]))(solve_fem(sc, fem)),
+                            repeat)
+    return {"h": h, "tip_h": tip_h, "n_dofs": n, "seconds": t, "runs": k, "error": _error(problem, res, ref)}
+
+
+def time_to(points: list, target: float = TARGET) -> dict:
+    """Time from which the error stays at or below ``target``: log-log interpolation between
+    the last point above it and the next one (errors need not fall monotonically: a lucky
+    coarse point does not count when a finer one is above the target again); ``bound`` is
+    "<=" when every point is at or below the target."""
+    pts = sorted(points, key=lambda p: p["seconds"])
+    above = [i for i, p in enumerate(pts) if p["error"] > target]
+    if not above:
+        return {"seconds": pts[0]["seconds"], "bound": "<="} if pts else \
+            {"seconds": None, "bound": "not reached", "best_error": None}
+    i = above[-1]
+    if i == len(pts) - 1:
+        return {"seconds": None, "bound": "not reached", "best_error": min(p["error"] for p in pts)}
+    a, b = pts[i], pts[i + 1]
+    la, lb = math.log(a["error"]), math.log(max(b["error"], 1e-300))
+    s = (math.log(target) - la) / (lb - la)
+    lt = math.log(a["seconds"]) + s * (math.log(b["seconds"]) - math.log(a["seconds"]))
+    return {"seconds": math.exp(lt), "bound": "="}
+
+
+def summarise(curves: dict) -> dict:
+    """Times to the target, their ratios to graded P2 (with the sense of the bound), the best."""
+    reach = {k: time_to([p for p in v if "error" in p]) for k, v in curves.items()}
+    fem = reach["FEM P2 graded, quarter-point"]
+    ratios, bounds = {}, {}
+    for k, r in reach.items():
+        if k.startswith("EFG") and r["seconds"] is not None and fem["seconds"]:
+            ratios[k] = r["seconds"] / fem["seconds"]
+            # an upper bound on one time bounds the ratio one way; on both, not at all
+            bounds[k] = {("=", "="): "=", ("<=", "="): "<=", ("=", "<="): ">="}.get(
+                (r["bound"], fem["bound"]), "undetermined")
+    best = min(ratios, key=ratios.get, default=None)
+    return {"time_to_target": reach, "ratios": ratios, "ratio_bounds": bounds, "best": best}
+
+
+def run_problem(problem: str, quick: bool, repeat: int) -> dict:
+    spec = PROBLEMS[problem]
+    sc = spec["scene"]()
+    q = 1 if quick else 0
+    if problem == "SENT":  # reference J: one graded step finer than the finest timed mesh
+        h, th = spec["graded"][q][-1]
+        ref = solve_fem(sc, FEM(h / 2, tip_h=th / 2, quarter_point=True)).sifs(radii=spec["radii"])[0].J
+    else:
+        ref = 1.0  # the prescribed K_I
+    curves = {}
+    for v in VARIANTS:
+        pts = []
+        for h in spec["efg"][q]:
+            if v == "full intrinsic" and (2.0 if problem == "singular patch" else W) / h > \
+                    spec["efg_full_intrinsic_max"] + 1e-9:
+                continue
+            try:
+                pts.append(efg_point(sc, problem, v, h, ref, repeat))
+            except (ValueError, RuntimeError) as err:  # e.g. a singular moment matrix
+                pts.append({"h": float(h), "failed": f"{type(err).__name__}: {str(err)[:160]}"})
+            if pts[-1].get("error", 1.0) < TARGET / 10:  # well past the target: stop refining
+                break
+        curves[f"EFG {v}"] = pts
+    for name, sizes in (("FEM P2 graded, quarter-point", spec["graded"][q]),
+                        ("FEM P2 uniform", [(h, None) for h in spec["uniform"][q]])):
+        pts = []
+        for h, th in sizes:
+            pts.append(fem_point(sc, problem, h, th, ref, repeat))
+            if pts[-1]["error"] < TARGET / 10:
+                break
+        curves[name] = pts
+    return {"reference": ref, "curves": curves, **summarise(curves)}
+
+
+def figure(res: dict, path: Path) -> Path:
+    import matplotlib.pyplot as plt
+
+    from efgkit.io import write_figure
+
+    fig, axes = plt.subplots(1, len(res["problems"]), figsize=(12, 4.5))
+    for ax, (problem, r) in zip(np.atleast_1d(axes), res["problems"].items(), strict=True):
+        for k, pts in r["curves"].items():
+            ok = [p for p in pts if "error" in p]
+            style = "s-" if k.startswith("FEM") else "o--"
+            ax.loglog([p["seconds"] for p in ok], [max(p["error"], 1e-9) for p in ok], style, ms=4, label=k)
+        ax.axhline(TARGET, color="k", ls=":", lw=1)
+        what = "K_I" if problem == "singular patch" else "J"
+        ax.set(xlabel="wall time (s): scene to SIFs", ylabel=f"relative error of {what}", title=problem)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.tight_layout()
+    try:
+        return write_figure(fig, path, dpi=100)
+    finally:
+        plt.close(fig)
+
+
+def _ratio(value: float, bound: str, bold: bool = False) -> str:
+    """'= 0.99', '<= 0.99', ... ('<=': the EFG point was already below the target)."""
+    if bound == "undetermined":
+        return f"undetermined (both first points below 0.1 %; {value:.2f} of the two bounds)"
+    return f"{bound} " + (f"**{value:.2f}**" if bold else f"{value:.2f}")
+
+
+def markdown(res: dict, cmd: str) -> str:
+    lines = ["# Performance: work against accuracy", "",
+             f"Generated by `{cmd}` on {res['machine']} ({res['date']}); linked from "
+             "[performance.md](performance.md). Wall time of the pipeline from the scene to the "
+             "stress intensity factors (discretisation or meshing, assembly, solve, domain "
+             f"integrals), median of up to {res['repeat']} runs (one above 5 s), all in one run "
+             "after a warm-up. EFG: Nitsche supports (bc='variational'), SuperLU below 20k "
+             "unknowns and CG with the auxiliary-space preconditioner above; FEM: scikit-fem P2 "
+             "(SuperLU below 20k unknowns, CG with smoothed aggregation above) on Triangle "
+             "meshes (graded: size tip h + 0.25 r, 12 quarter-point elements at the tip). The "
+             "machine is shared: absolute times drift, the ratios are measured side by side.", "",
+             "![error against wall time](figures/work_precision.png)", ""]
+    for problem, r in res["problems"].items():
+        what = "K_I error |K_I - 1|" if problem == "singular patch" else \
+            f"J error |J / J_ref - 1|, J_ref = {r['reference']:.5f} N/mm (finer graded P2)"
+        lines += [f"## {problem}", "", f"Error: {what}.", "",
+                  "| method | size | DOFs | seconds | error |", "|---|---|---|---|---|"]
+        for k, pts in r["curves"].items():
+            for p in pts:
+                size = f"h = {p['h']:.4g}" + (f", tip h = {p['tip_h']:g}" if p.get("tip_h") else "")
+                if "error" in p:
+                    lines.append(f"| {k} | {size} | {p['n_dofs']} | {p['seconds']:.3f} | {p['error']:.2e} |")
+                else:
+                    lines.append(f"| {k} | {size} | | | failed: {p['failed']} |")
+        lines += ["", "Time to 0.1 % error, and its ratio to graded P2:", "",
+                  "| method | seconds to 0.1 % | ratio to graded P2 |", "|---|---|---|"]
+        for k, t in r["time_to_target"].items():
+            sec = "not reached (best {:.2e})".format(t["best_error"]) if t["seconds"] is None else \
+                f"{'<= ' if t['bound'] == '<=' else ''}{t['seconds']:.3f}"
+            ratio = r["ratios"].get(k)
+            lines.append(f"| {k} | {sec} | {'' if ratio is None else _ratio(ratio, r['ratio_bounds'][k])} |")
+        best = r["best"]
+        lines += ["", f"**Headline ({problem})**: best EFG variant {best}, time ratio EFG / graded P2 "
+                  f"{_ratio(r['ratios'][best], r['ratio_bounds'][best], bold=True)} (goal <= 1)." if best
+                  else f"**Headline ({problem})**: no EFG variant reached 0.1 %.", ""]
+    lines += res.get("notes", [])
+    return "\n".join(lines) + "\n"
+
+
+NOTES = [
+    "## What limits the ratio", "",
+    "* Extrinsic MLS enrichment carries the near-tip Williams fields with global K_I, K_II "
+    "unknowns: on both problems it is below 0.1 % on the coarsest cloud (the singular patch's "
+    "exact solution *is* the mode-I field; on the SENT, 5 nodes across W give 1e-4). Its time "
+    "to 0.1 % is then an upper bound, and so is the ratio. At that size both methods take under "
+    "0.1 s, and the ratio is set by per-call work, not by work that grows with accuracy. "
+    "Measured on the SENT (medians of 7, 5 nodes across against the graded P2 mesh h = 4, "
+    "tip h = 0.5): EFG solve 0.060 s (MLS shape functions with the enrichment 0.028, "
+    "stiffness 0.011, Nitsche terms 0.008, quadrature cells 0.006, solve 0.004) plus 0.036 s "
+    "for the domain integrals; FEM solve 0.039 s (assembly 0.025, solve 0.010, Triangle "
+    "0.004) plus 0.022 s. The ratio between runs moved between 0.99 and 1.23 at these times "
+    "on this shared machine.",
+    "* PU enrichment reaches 0.1 % at the same clouds but costs 2-5 times more: its enriched "
+    "nodes carry 8 extra unknowns each and their rows are denser.",
+    "* Intrinsic enrichment and tip rosettes converge algebraically in the spacing (radial "
+    "sqrt(r) about like h, the full basis faster) and an EFG node is dearer than a P2 DOF "
+    "(d_max = 3 for the full basis: about 28 neighbours per point; 8 x 8 Gauss points in the "
+    "tip cells): 20 to 60 times graded P2 to 0.1 %, or not reached in the sweep. The full "
+    "basis's sweep stops at 16 intervals on the patch and 40 nodes across the SENT: on finer "
+    "clouds its 7-term moment matrices were singular near the crack faces (SingularMomentMatrix "
+    "at 32 and 64 intervals on the patch with Lagrange supports, and at 80 across the SENT with "
+    "enrich_radius = 2 mm, in this session's runs).",
+    "* Graded P2 with 12 quarter-point elements at the tip is a strong reference: K within "
+    "1e-4 at a few thousand DOFs. Uniform P2 converges only like h (the singularity): about "
+    "13 (SENT) and 200 (patch) times slower to 0.1 % than graded P2.",
+]
+
+
+def main(argv=None) -> dict:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--no-write", action="store_true", help="do not write docs/ and benchmarks/out/")
+    ap.add_argument("--render", action="store_true",
+                    help="re-render docs from benchmarks/out/work_precision.json without timing")
+    args = ap.parse_args(argv)
+    if args.render:
+        res = json.loads((ROOT / "benchmarks" / "out" / "work_precision.json").read_text())
+        for r in res["problems"].values():
+            r.update(summarise(r["curves"]))
+        res["notes"] = NOTES
+        figure(res, ROOT / "docs" / "figures" / "work_precision.png")
+        (ROOT / "docs" / "performance_work_precision.md").write_text(
+            markdown(res, "python benchmarks/work_precision.py"))
+        return res
+    warnings.simplefilter("ignore", UserWarning)  # domain-independence notes of coarse runs
+    sc = patch_scene()  # warm-up: numba kernels and imports
+    for v in VARIANTS:
+        efg_point(sc, "singular patch", v, 0.5, 1.0, 1)
+    fem_point(sc, "singular patch", 0.5, 0.1, 1.0, 1)
+    res = {"machine": f"{platform.machine()}, {platform.python_implementation()} "
+                      f"{platform.python_version()}", "date": time.strftime("%Y-%m-%d"),
+           "repeat": args.repeat, "target": TARGET,
+           "problems": {p: run_problem(p, args.quick, args.repeat) for p in PROBLEMS}}
+    res["notes"] = NOTES
+    cmd = "python benchmarks/work_precision.py" + (" --quick" if args.quick else "")
+    if not args.no_write:
+        res["figure"] = str(figure(res, ROOT / "docs" / "figures" / "work_precision.png"))
+        (ROOT / "docs" / "performance_work_precision.md").write_text(markdown(res, cmd))
+        (ROOT / "benchmarks" / "out").mkdir(exist_ok=True)
+        (ROOT / "benchmarks" / "out" / "work_precision.json").write_text(json.dumps(res, indent=1))
+    return res
+
+
+if __name__ == "__main__":
+    out = main()
+    print(json.dumps({p: {"ratios": r["ratios"], "time_to_target": r["time_to_target"]}
+                      for p, r in out["problems"].items()}, indent=1))
