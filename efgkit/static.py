@@ -104,11 +104,13 @@ def essential_conditions(disc: Discretization, derivatives: bool) -> Dirichlet:
     tol = 1e-9 * scene.domain.size
     mouth_keys = {tuple(np.round(p / tol).astype(np.int64)) for p in mouths}
     for sup in scene.supports:
+        selected = 0
         for e in support_edges(scene.domain, sup.edge):
             hat = np.linspace(0.0, 1.0, boundary_segments_for(e, disc.nodes, m.spacing) + 1)
             x, w, nrm, s = edge_rule(e, hat, max(m.order, 2), mouths)
             keep = np.ones(len(x), bool) if isinstance(sup.edge, str) else np.asarray(
                 sup.edge(x), bool)
+            selected += int(keep.sum())
             fixed = np.zeros((len(x), 2), bool)
             value = np.zeros((len(x), 2))
             for c, v in enumerate((sup.ux, sup.uy)):
@@ -145,6 +147,12 @@ def essential_conditions(disc: Discretization, derivatives: bool) -> Dirichlet:
             parts.append((x, w, nrm, fixed, value, seg + seg0, t, seg_nodes))
             seg0 += nhat
             hat0 = int(right_id[-1]) + 1
+        if callable(sup.edge) and selected == 0:
+            raise ValueError(
+                f"support {sup.edge!r} selects none of the boundary quadrature points: EFG imposes "
+                "supports as integrals along boundary lines, so a callable that picks isolated "
+                "points (a single point to pin) selects nothing. Select a stretch of boundary "
+                "instead, e.g. the points within one spacing of the point to pin.")
     if not parts:
         x = np.zeros((0, 2))
         return Dirichlet(x, np.zeros(0), x, disc.shape_at(x, derivatives), np.zeros((0, 2), bool),

@@ -165,3 +165,11 @@ def test_enrichment_without_cracks_is_refused():
                   supports=(Support("left", ux=0.0, uy=0.0),))
     with pytest.raises(ValueError, match="needs a crack tip"):
         solve(scene, EFG(spacing=0.25, enrichment="full"))
+
+
+def test_point_support_selecting_nothing_is_explained():
+    scene = Scene(Domain.rectangle(0, 0, 1, 1), Elastic(1.0, 0.3),
+                  supports=(Support("left", ux=0.0),
+                            Support(lambda x: np.hypot(*(x - [0.0, 0.5]).T) < 1e-9, uy=0.0)))
+    with pytest.raises(ValueError, match="selects none of the boundary quadrature points"):
+        solve(scene, EFG(spacing=0.25, bc="lagrange"))
