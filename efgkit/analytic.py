@@ -30,7 +30,7 @@ from .fracture.fields import (
 )
 from .material import Elastic
 
-__all__ = ["FIELDS", "Field"]
+__all__ = ["FIELDS", "Field", "field_errors"]
 
 _REQUIRED = None  # default of a parameter that must be given
 
@@ -290,3 +290,25 @@ class Field:
     def strain(self, x: np.ndarray, material: Elastic) -> np.ndarray:
         """Strain at ``x (n, 2)``, shape (n, 3), Voigt with engineering shear: C sigma."""
         return self.stress(x, material) @ material.compliance().T
+
+
+def field_errors(exact: Field, material: Elastic, x: np.ndarray, w: np.ndarray, u: np.ndarray,
+                 strain: np.ndarray) -> dict:
+    """Relative L2 displacement and energy-norm errors of a computed field against ``exact``.
+
+    ``x (n, 2)``, ``w (n,)`` a quadrature rule of the body, ``u (n, 2)`` and
+    ``strain (n, 3)`` (Voigt, engineering shear) the computed field there. The energy
+    norm is seed 003 Eq. (36), ``[1/2 int (sigma - sigma^h):(eps - eps^h)]^(1/2)``,
+    divided by the same norm of the exact field.
+
+    Returns
+    -------
+    dict with ``l2`` and ``energy`` (relative) and the absolute ``energy_abs``.
+    """
+    ue, se = exact.displacement(x, material), exact.stress(x, material)
+    ee = se @ material.compliance().T
+    de = ee - strain
+    e_abs = np.sqrt(0.5 * np.sum(w * np.einsum("ni,ij,nj->n", de, material.D, de)))
+    e_ref = np.sqrt(0.5 * np.sum(w * np.einsum("ni,ni->n", se, ee)))
+    l2 = np.sqrt(np.sum(w * ((u - ue) ** 2).sum(1)) / np.sum(w * (ue**2).sum(1)))
+    return {"l2": float(l2), "energy": float(e_abs / e_ref), "energy_abs": float(e_abs)}

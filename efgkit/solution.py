@@ -165,13 +165,7 @@ class Solution:
         exact = self.scene.exact if exact is None else exact
         if exact is None:
             raise ValueError("no exact field: give errors(exact=Field) or Scene(exact=...)")
-        mat = self.scene.material
-        x, w = self.disc.points.x, self.disc.points.w
-        u, ue = self.displacement(), exact.displacement(x, mat)
-        eps, se = self.strain(), exact.stress(x, mat)
-        ee = se @ mat.compliance().T
-        de = ee - eps
-        e_abs = np.sqrt(0.5 * np.sum(w * np.einsum("ni,ij,nj->n", de, mat.D, de)))
-        e_ref = np.sqrt(0.5 * np.sum(w * np.einsum("ni,ni->n", se, ee)))
-        l2 = np.sqrt(np.sum(w * ((u - ue) ** 2).sum(1)) / np.sum(w * (ue**2).sum(1)))
-        return {"l2": float(l2), "energy": float(e_abs / e_ref), "energy_abs": float(e_abs)}
+        from .analytic import field_errors
+
+        return field_errors(exact, self.scene.material, self.disc.points.x, self.disc.points.w,
+                            self.displacement(), self.strain())
