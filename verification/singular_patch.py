@@ -10,13 +10,8 @@ enrichment. K from :meth:`Solution.sifs` (interaction integrals at the quadratur
 Wendland C2 q) as the mean over the discs of radii 0.3, 0.5 and 0.7 a, and K against the
 disc radius from 0.1 a to 0.9 a for the figure (seed 003 Fig. 42).
 
-Two workarounds of efgkit defects are built in (see ``markdown``):
-
-* the left edge is two edges meeting at the crack mouth, because efgkit's multiplier hats
-  are continuous along an edge while the mode-II traction on it jumps at the mouth;
-* the rosette nodes are passed as explicit coordinates, because ``EFG(rosette=...)``
-  corrupts the tip-cell quadrature on the 25 x 25 grid (the library path is run too, as
-  ``rosette_lib``, and compared).
+The left edge is one edge through the crack mouth: efgkit's Lagrange multipliers jump at a
+mouth (the mode-II traction does), and the sensitivity table compares two edges meeting there.
 """
 
 from __future__ import annotations
@@ -28,7 +23,6 @@ from pathlib import Path
 import numpy as np
 
 from efgkit import EFG, Crack, Domain, Elastic, Field, Loop, Rosette, Scene, Support, discretize
-from efgkit.nodes import generate_nodes
 from efgkit.report import Report
 from efgkit.static import solve
 
@@ -53,7 +47,7 @@ VARIANTS = {
     "extrinsic_mls": dict(enrichment="extrinsic_mls", rule_power=1.0),
     "pu": dict(enrichment="pu", rule_power=1.0),
 }
-LABELS = {"linear": "linear", "rosette": "linear + rosette", "rosette_lib": "linear + EFG(rosette=)",
+LABELS = {"linear": "linear", "rosette": "linear + rosette",
           "radial": "intrinsic sqrt(r)", "full": "intrinsic full", "extrinsic_mls": "extrinsic MLS",
           "pu": "extrinsic PU"}
 # Alternatives run on the two coarse grids for the sensitivity table.
@@ -63,16 +57,16 @@ SENSITIVITY = {
     "full, lambda = 1": ("full", dict(rule_power=1.0), True),
     "radial, efgkit default disc (r2 = 4h, r1 = 0)": (
         "radial", dict(enrich_radius=None, ramp_inner=0.0), True),
-    "extrinsic_mls, one left edge": ("extrinsic_mls", {}, False),
-    "pu, one left edge": ("pu", {}, False),
-    "full, one left edge": ("full", {}, False),
+    "extrinsic_mls, two left edges meeting at the mouth": ("extrinsic_mls", {}, True),
+    "pu, two left edges meeting at the mouth": ("pu", {}, True),
+    "full, two left edges meeting at the mouth": ("full", {}, True),
 }
 TOL_ENRICHED = 5e-4  # issue 4: full intrinsic, extrinsic MLS and PU within 0.05 % on every grid
 TOL_RADIAL = 0.01  # issue 4: radial within 1 % at 17 x 17
 TOL_ROSETTE = 0.02  # issue 4: linear + rosette within 2 % at 25 x 25
 
 
-def domain(split_mouth: bool = True) -> Domain:
+def domain(split_mouth: bool = False) -> Domain:
     """[-a, a]^2; with ``split_mouth`` the left edge is two edges "left" meeting at the mouth."""
     if not split_mouth:
         return Domain.rectangle(-A, -A, A, A)
@@ -80,50 +74,25 @@ def domain(split_mouth: bool = True) -> Domain:
     return Domain(Loop.polygon(v, ["bottom", "right", "top", "left", "left"]))
 
 
-def scene(KI: float, KII: float, split_mouth: bool = True) -> Scene:
+def scene(KI: float, KII: float, split_mouth: bool = False) -> Scene:
     W = Field.named("williams", KI=KI, KII=KII)
     sup = tuple(Support(e, ux=W, uy=W) for e in ("left", "bottom", "right", "top"))
     crack = Crack([[-A, 0.0], [0.0, 0.0]], tips=(False, True), name="crack")
     return Scene(domain(split_mouth), MAT, supports=sup, cracks=(crack,), exact=W, name=NAME)
 
 
-def rosette_nodes(sc: Scene, h: float, ros: Rosette = ROSETTE) -> np.ndarray:
-    """The cloud of ``EFG(spacing=h, rosette=ros)`` as coordinates (n, 2).
-
-    The same grid, the same background nodes switched off (closer to the tip than the outer
-    ring plus half a ring gap) and the same rings (``per_ring - 1`` angles from -pi), with
-    the nodes at theta = +-pi put exactly on the crack line (the library's lie 2e-17 off it,
-    which breaks its tip-cell quadrature: see the module docstring).
-    """
-    tip = sc.tips[0]
-    x = generate_nodes(sc.domain, EFG(spacing=h)).x
-    gap = ros.radius / ros.rings
-    x = x[np.hypot(*(x - tip.x).T) > ros.radius + 0.5 * gap]
-    r = ros.radius * np.arange(1, ros.rings + 1) / ros.rings
-    th = tip.angle - np.pi + 2 * np.pi * np.arange(ros.per_ring - 1) / (ros.per_ring - 1)
-    R, T = np.meshgrid(r, th, indexing="ij")
-    ring = np.column_stack([(R * np.cos(T)).ravel(), (R * np.sin(T)).ravel()])
-    ring[np.abs(ring[:, 1]) <= 1e-12 * A, 1] = 0.0
-    return np.vstack([x, tip.x[None], tip.x + ring])
+def method(variant: str, n: int, **override) -> EFG:
+    return EFG(spacing=2 * A / (n - 1), bc="lagrange", **dict(VARIANTS[variant], **override))
 
 
-def method(variant: str, n: int, sc: Scene, **override) -> EFG:
-    h = 2 * A / (n - 1)
-    opts = dict(VARIANTS["rosette" if variant == "rosette_lib" else variant], **override)
-    if variant == "rosette":  # explicit coordinates: the workaround of the rosette quadrature
-        opts.pop("rosette")
-        opts["coordinates"] = rosette_nodes(sc, h)
-    return EFG(spacing=h, bc="lagrange", **opts)
-
-
-def run(variant: str, n: int, mode: str, split_mouth: bool = True, curve: bool = True,
+def run(variant: str, n: int, mode: str, split_mouth: bool = False, curve: bool = True,
         **override) -> dict:
     KI, KII = MODES[mode]
     sc = scene(KI, KII, split_mouth)
     t0 = time.perf_counter()
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        sol = solve(sc, method(variant, n, sc, **override))
+        sol = solve(sc, method(variant, n, **override))
         res = sol.sifs(radii=RADII)[0]
         doms = sol.sifs(radii=CURVE)[0].domains if curve else ()
     out = {"KI": res.KI, "KII": res.KII, "J": res.J, "spread": res.spread,
@@ -148,7 +117,7 @@ def reproduction(n: int = 17) -> dict:
     rx, tx = np.hypot(*x.T), np.arctan2(x[:, 1], x[:, 0])
     out = {}
     for v in ("radial", "full"):
-        disc = discretize(sc, method(v, n, sc))
+        disc = discretize(sc, method(v, n))
         nodes = disc.nodes
         r, th = np.hypot(*nodes.x.T), np.arctan2(nodes.x[:, 1], nodes.x[:, 0])
         on_face = (nodes.face != 0) & (nodes.x[:, 0] < 0)  # split nodes carry their face
@@ -196,12 +165,11 @@ def main(quick: bool = False, out_dir=None) -> dict:
     rep = Report(NAME, quick)
     grids = GRIDS[:2] if quick else GRIDS
     variants = [v for v in VARIANTS if not (quick and v == "radial")]
-    variants.insert(variants.index("rosette") + 1, "rosette_lib")
     rows = {mode: {v: {} for v in variants} for mode in MODES}
     for mode in MODES:
         for v in variants:
             for n in grids:
-                rows[mode][v][f"{n}x{n}"] = run(v, n, mode, curve=v != "rosette_lib")
+                rows[mode][v][f"{n}x{n}"] = run(v, n, mode)
     KI = {f"{mode}/{v}/{g}": r["KI"] for mode in MODES for v in variants for g, r in rows[mode][v].items()}
     KII = {f"{mode}/{v}/{g}": r["KII"] for mode in MODES for v in variants
            for g, r in rows[mode][v].items()}
@@ -244,10 +212,6 @@ def main(quick: bool = False, out_dir=None) -> dict:
     else:  # the rosette target grid is not run in quick mode: the finest one run instead
         rep.check(f"{LABELS['rosette']}, {grids[-1]} x {grids[-1]}: max |K - 1|",
                   err("rosette", grids[-1]), "<=", TOL_ROSETTE)
-    for n in grids:
-        dk = max(abs(rows[mode]["rosette_lib"][f"{n}x{n}"]["K"] - rows[mode]["rosette"][f"{n}x{n}"]["K"])
-                 for mode in MODES)
-        rep.check(f"EFG(rosette=) reproduces the explicit rosette nodes' K, {n} x {n}", dk, "<=", 1e-6)
     other = max(abs(r["other"]) for mode in MODES for v in ("full", "extrinsic_mls", "pu")
                 for r in rows[mode][v].values())
     rep.check("spurious other-mode K (symmetric patch), enriched variants, every grid", other, "<=",
@@ -255,11 +219,10 @@ def main(quick: bool = False, out_dir=None) -> dict:
     lin = [err("linear", n) for n in grids]
     rep.check("linear basis: K error decreases with refinement (finest / coarsest)", lin[-1] / lin[0], "<=",
               0.75)
-    shown = [v for v in variants if v != "rosette_lib"]
     if not quick:
-        rep.figures.append(str(figure(rows, shown, grids, ROOT / "docs" / "figures" / f"{NAME}_K.png")))
+        rep.figures.append(str(figure(rows, variants, grids, ROOT / "docs" / "figures" / f"{NAME}_K.png")))
     elif out_dir is not None:
-        rep.figures.append(str(figure(rows, shown, grids, Path(out_dir) / f"{NAME}_K.png")))
+        rep.figures.append(str(figure(rows, variants, grids, Path(out_dir) / f"{NAME}_K.png")))
     return rep.write(out_dir)
 
 
@@ -267,7 +230,8 @@ def markdown(record: dict) -> list[str]:
     m = record["metrics"]
     s = m["settings"]
     grids = m["grids"]
-    sens = m["sensitivity"]
+    other = max(abs(r["other"]) for mode in MODES for v in ("full", "extrinsic_mls", "pu")
+                for r in m["rows"][mode][v].values())
     lines = [
         "Seed 003 Sect. 5.6.1: square [-a, a]^2 (a = 1), edge crack from (-a, 0) to the tip at the "
         "centre, the exact Williams displacement prescribed on the whole boundary (Lagrange "
@@ -311,23 +275,12 @@ def markdown(record: dict) -> list[str]:
               "with the visibility rule, finds it 5-15 % low); the rosette of Fig. 34 brings it "
               "within 1 %.",
               "- Mode II is the harder case on the boundary: its traction on the left edge jumps "
-              "at the crack mouth (sigma_xx = -+2 K_II / sqrt(2 pi a) on the two faces), which "
-              "efgkit's Lagrange-multiplier hats, continuous along an edge, cannot follow. The "
-              "scene therefore has two edges \"left\" meeting at the mouth (the corner rule then "
-              "lets the multiplier jump). With one left edge the mode-II K error of PU grows to "
-              + (f"{abs(sens['pu, one left edge']['mode II'][grids[0]] - 1):.1e}" if sens else "?")
-              + f" on {grids[0]} (sensitivity table).",
-              "- `EFG(rosette=...)` corrupts the quadrature on the 25 x 25 grid: the rosette node "
-              "at theta = -pi lies 2e-17 off the crack, its shadow ray direction has a 5e-18 "
-              "component normal to the crack, and `tip_quadrature._ray_exit` then finds a "
-              "negative exit parameter in a tip cell whose edge is computed 7e-17 below the tip "
-              "(weights sum to 4.037 instead of 4, points 0.6 a outside the cell). The rosette "
-              "row uses the identical cloud passed as coordinates; the `EFG(rosette=)` row is the "
-              "library path, compared by a check.",
-              "- The other-mode K (zero by symmetry) stays below 1e-4 with enrichment; with the "
-              "linear basis it reaches 1.4e-3 (K_I in the mode II run, 9 x 9): the mouth is a "
-              "corner of the two left edges, where only the first edge keeps a multiplier hat "
-              "and the second extrapolates, which is not mirror symmetric.", "",
+              "at the crack mouth (sigma_xx = -+2 K_II / sqrt(2 pi a) on the two faces). efgkit's "
+              "Lagrange multipliers have one hat node per side of a mouth, so they jump there "
+              "too; the sensitivity table shows the same K with the left edge split into two "
+              "edges meeting at the mouth.",
+              "- The other-mode K (zero by symmetry) stays below 1e-4 with enrichment: "
+              + f"{other:.1e} at most.", "",
               "Sensitivity (K on the two coarse grids; the chosen settings above):", "",
               "| alternative | mode | " + " | ".join(grids[:2]) + " |", "|---|---|---|---|"]
     for label, per_mode in m["sensitivity"].items():
