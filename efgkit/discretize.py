@@ -295,5 +295,6 @@ def _interpolating_supports(nodes: NodeCloud, interp: np.ndarray) -> NodeCloud:
 def boundary_segments_for(edge: Edge, nodes: NodeCloud, spacing: float) -> int:
     """Number of equal-parameter pieces of the boundary rules (and Lagrange-multiplier hats)
     on ``edge``: at least one per node interval on it."""
-    on = _nodes_on(edge, nodes.x, 1e-6 * spacing).sum()
-    return max(1, math.ceil(edge.length / spacing - 1e-9), int(on) - 1)
+    on = _nodes_on(edge, nodes.x, 1e-6 * spacing)
+    positions = len(np.unique(np.round(nodes.x[on] / spacing, 6), axis=0))  # split copies once
+    return max(1, math.ceil(edge.length / spacing - 1e-9), positions - 1)
