@@ -165,8 +165,9 @@ def discretize(scene: Scene, method: EFG) -> Discretization:
 
 
 def tip_zones(scene: Scene, method: EFG) -> tuple:
-    """Quadrature zones around the crack tips: cells within max(2 h, the enrichment radius)
-    of a tip are split in 2 x 2 and use ``method.tip_order``."""
+    """Quadrature zones around the crack tips: cells within max(2 h, the intrinsic enrichment
+    radius) of a tip are split in 2 x 2 and use ``method.refined_order`` (the cells holding
+    the tip itself get the fan rule of order ``method.tip_order``)."""
     from .methods import Zone
 
     h = method.cell_size or method.spacing

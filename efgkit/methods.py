@@ -155,8 +155,10 @@ class EFG:
     ramp_inner : float
         r1 of Eq. (54): R = 1 inside it.
     tip_order : int
-        Gauss points per direction in the background cells within
-        ``enrich_radius`` (or 2 spacings) of a tip.
+        Gauss points per direction of the collapsed fan rules in the cells
+        holding a tip (:mod:`efgkit.tip_quadrature`). The cells within
+        max(2 spacings, ``enrich_radius`` of intrinsic enrichment) of a tip
+        are split 2 x 2 and use ``refined_order``.
     """
 
     spacing: float
