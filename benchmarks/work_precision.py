@@ -200,10 +200,7 @@ def figure(res: dict, path: Path) -> Path:
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=7)
     fig.tight_layout()
-    try:
-        return write_figure(fig, path, dpi=100)
-    finally:
-        plt.close(fig)
+    return write_figure(fig, path, dpi=100)
 
 
 def _ratio(value: float, bound: str, bold: bool = False) -> str:

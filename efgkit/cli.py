@@ -85,8 +85,6 @@ def _write_outputs(sol, out: Path, name: str, samples: int, timings: dict,
                    tips=()) -> list[Path]:
     """Fields (VTU), node cloud (VTU) and the figures (PNG: nodes, stress and, with crack
     tips, K against the J-domain radius); adds their timings."""
-    import matplotlib.pyplot as plt
-
     from .io import nodes_path, write_figure, write_vtu
     from .plot import plot_domain_dependence, plot_nodes, plot_stress
 
@@ -100,11 +98,7 @@ def _write_outputs(sol, out: Path, name: str, samples: int, timings: dict,
     if tips:
         figures.append(("sif", lambda: plot_domain_dependence(tips)))
     for suffix, draw in figures:
-        fig = draw()
-        try:
-            outputs.append(write_figure(fig, out / f"{name}_{suffix}.png"))
-        finally:
-            plt.close(fig)
+        outputs.append(write_figure(draw(), out / f"{name}_{suffix}.png"))
     timings["figures"] = time.perf_counter() - t0
     return outputs
 

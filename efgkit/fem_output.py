@@ -140,8 +140,6 @@ def write(sol, out, name: str | None = None, radii=None) -> dict:
 
     ``name`` defaults to the scene's name made file-safe. Returns the record.
     """
-    import matplotlib.pyplot as plt
-
     from .io import write_figure, write_json
 
     out = Path(out)
@@ -150,10 +148,7 @@ def write(sol, out, name: str | None = None, radii=None) -> dict:
     paths = [write_vtu(sol, out / f"{name}.vtu")]
     for suffix, draw in (("mesh", sol.plot_mesh), ("stress", plot_stress)):
         fig = draw() if suffix == "mesh" else draw(sol)
-        try:
-            paths.append(write_figure(fig, out / f"{name}_{suffix}.png"))
-        finally:
-            plt.close(fig)
+        paths.append(write_figure(fig, out / f"{name}_{suffix}.png"))
     rec["outputs"] = [str(p) for p in paths + [out / f"{name}.json"]]
     write_json(rec, out / f"{name}.json")
     return rec

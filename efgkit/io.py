@@ -265,9 +265,19 @@ def write_json(obj, path) -> Path:
     return path
 
 
-def write_figure(fig, path, dpi: int = 150) -> Path:
-    """Save a matplotlib figure (format from the suffix); parent directories are created."""
+def write_figure(fig, path, dpi: int = 150, close: bool = True) -> Path:
+    """Save a matplotlib figure (format from the suffix); parent directories are created.
+
+    With ``close`` the figure is closed afterwards, also when saving fails (pyplot keeps
+    every figure it made until it is closed).
+    """
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=dpi, bbox_inches="tight")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fig.savefig(path, dpi=dpi, bbox_inches="tight")
+    finally:
+        if close:
+            import matplotlib.pyplot as plt
+
+            plt.close(fig)
     return path

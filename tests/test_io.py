@@ -14,6 +14,7 @@ from efgkit.io import (
     nodes_path,
     sample_grid,
     von_mises,
+    write_figure,
     write_json,
     write_nodes_vtu,
     write_vtu,
@@ -144,3 +145,22 @@ def test_write_json_round_trip(tmp_path):
 def test_jsonable_rejects_unknown_objects():
     with pytest.raises(TypeError, match="JSON"):
         jsonable({"x": object()})
+
+
+def test_write_figure_closes_the_figure_also_when_saving_fails(tmp_path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, _ = plt.subplots()
+    path = write_figure(fig, tmp_path / "a" / "f.png")
+    assert path.exists() and not plt.fignum_exists(fig.number)
+    fig, _ = plt.subplots()
+    with pytest.raises(ValueError, match="xyz"):
+        write_figure(fig, tmp_path / "f.xyz")
+    assert not plt.fignum_exists(fig.number)
+    fig, _ = plt.subplots()
+    write_figure(fig, tmp_path / "g.png", close=False)
+    assert plt.fignum_exists(fig.number)
+    plt.close(fig)

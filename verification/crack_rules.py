@@ -209,10 +209,7 @@ def contour_figure(layout: str, rules, n: int, path: Path) -> Path:
     fig.suptitle(f"node A (red) on the {layout.replace('_', ' ')} layout; crack in black, tip x",
                  fontsize=10)
     fig.tight_layout()
-    try:
-        return write_figure(fig, path, dpi=100)
-    finally:
-        plt.close(fig)
+    return write_figure(fig, path, dpi=100)
 
 
 def circle_figure(n: int, path: Path) -> Path:
@@ -240,10 +237,7 @@ def circle_figure(n: int, path: Path) -> Path:
             if j == 0:
                 ax.set_ylabel("phi_I of the 8 nodes nearest the tip")
     fig.tight_layout()
-    try:
-        return write_figure(fig, path, dpi=100)
-    finally:
-        plt.close(fig)
+    return write_figure(fig, path, dpi=100)
 
 
 def main(quick: bool = False, out_dir=None) -> dict:

@@ -104,10 +104,7 @@ def figure(rows: dict, path: Path) -> Path:
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
     fig.tight_layout()
-    try:
-        return write_figure(fig, path, dpi=100)
-    finally:
-        plt.close(fig)
+    return write_figure(fig, path, dpi=100)
 
 
 def main(quick: bool = False, out_dir=None) -> dict:

@@ -164,12 +164,8 @@ def _plt():
 def _save(fig, path):
     from efgkit.io import write_figure
 
-    plt = _plt()
     fig.tight_layout()
-    try:
-        return write_figure(fig, path, dpi=100)
-    finally:
-        plt.close(fig)
+    return write_figure(fig, path, dpi=100)
 
 
 def convergence_figure(rows: dict, path: Path) -> Path:

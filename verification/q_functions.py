@@ -34,6 +34,7 @@ import numpy as np
 from efgkit import EFG, Crack, Domain, Elastic, Field, Loop, Scene, Support, solve
 from efgkit.fracture.integrals import domain_integrals, nodal_volumes
 from efgkit.fracture.qfunctions import QFunction
+from efgkit.io import write_figure
 from efgkit.report import Report
 
 NAME = "q_functions"
@@ -151,10 +152,7 @@ def figure(res: dict, path: Path) -> Path:
             axes[i, 2 * j + 1].xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
     axes[0, 0].legend(fontsize=7)
     fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-    return path
+    return write_figure(fig, path, dpi=100)
 
 
 def main(quick: bool = False, out_dir=None) -> dict:

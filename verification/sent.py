@@ -309,14 +309,12 @@ def _save(fig, name: str, quick: bool, out_dir) -> str | None:
 
     from efgkit.io import write_figure
 
-    try:
-        if not quick:
-            return str(write_figure(fig, ROOT / "docs" / "figures" / f"{NAME}_{name}.png", dpi=100))
-        if out_dir is not None:
-            return str(write_figure(fig, Path(out_dir) / f"{NAME}_{name}.png", dpi=100))
-        return None
-    finally:
-        plt.close(fig)
+    if not quick:
+        return str(write_figure(fig, ROOT / "docs" / "figures" / f"{NAME}_{name}.png", dpi=100))
+    if out_dir is not None:
+        return str(write_figure(fig, Path(out_dir) / f"{NAME}_{name}.png", dpi=100))
+    plt.close(fig)
+    return None
 
 
 def fig_contours(fem_sol, efg_sol, label: str):

@@ -25,6 +25,7 @@ import numpy as np
 
 from efgkit import EFG, FEM, Crack, Domain, Elastic, Scene, Support, Traction, solve, solve_fem
 from efgkit.approx.mls import SingularMomentMatrix
+from efgkit.io import write_figure
 from efgkit.report import Report
 
 NAME = "shear_edge_crack"
@@ -152,10 +153,7 @@ def figure(rows: dict, ref: tuple, path: Path) -> Path:
     axes[1].set_ylim(K_WILSON[1] * 0.9, K_WILSON[1] * 1.05)
     axes[1].legend(fontsize=7)
     fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-    return path
+    return write_figure(fig, path, dpi=100)
 
 
 def main(quick: bool = False, out_dir=None) -> dict:

@@ -23,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from efgkit import EFG, Crack, Domain, Elastic, Field, Loop, Rosette, Scene, Support, discretize
+from efgkit.io import write_figure
 from efgkit.report import Report
 from efgkit.static import solve
 
@@ -164,10 +165,7 @@ def figure(rows: dict, variants, grids, path: Path) -> Path:
             ax.tick_params(labelsize=7)
     axes[0, 0].legend(fontsize=7)
     fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-    return path
+    return write_figure(fig, path, dpi=100)
 
 
 def main(quick: bool = False, out_dir=None) -> dict:
