@@ -12,6 +12,7 @@ import time
 import numpy as np
 
 from .assemble import load_vector, stiffness
+from .boundary_quadrature import boundary_points, edge_rule
 from .constraints import (
     Dirichlet,
     eliminate,
@@ -30,7 +31,7 @@ from .discretize import (
 )
 from .linalg import solve as linear_solve
 from .methods import EFG
-from .quadrature import boundary_points, edge_rule, gauss_legendre
+from .quadrature import gauss_legendre
 from .scene import Scene, evaluate_component, evaluate_vector
 from .solution import Solution
 

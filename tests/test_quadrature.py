@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 
 import efgkit.quadrature as quadrature
+from efgkit.boundary_quadrature import boundary_points
 from efgkit.geometry import Domain, Loop
 from efgkit.methods import Zone
 from efgkit.quadrature import (
     Points,
-    boundary_points,
     cell_points,
     gauss_legendre,
     triangle_points,

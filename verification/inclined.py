@@ -297,19 +297,16 @@ def markdown(record: dict) -> list[str]:
               "About the crack line itself the mirror is exact to rounding (tests/test_sif_efg.py).",
               ""]
     if m["defect_30deg"]:
-        lines += ["**efgkit defect: cells cut by an inclined crack lose area.** "
+        lines += ["**Regression study: cells cut by an inclined crack (a fixed efgkit defect).** "
                   "`efgkit.quadrature._cut_triangles` sorts the lines of each vertical slab by "
-                  "`0.5 * (la + lb)` and relies on the `up` tie-break to put the two sides of a "
-                  "crack slit in the right order; the two sides are the same segment travelled "
-                  "both ways, evaluated from opposite ends (`p + (xa - p0) * slope`), so their keys "
-                  "differ by rounding and the tie-break is skipped in some cells: the material "
-                  "between them is classified wrongly and a piece of the cell is dropped. "
-                  "Reproducer: `cell_points(Domain.rectangle(-1, -1, 1, 1), 0.0625, 4, "
-                  "cracks=[Crack([[-0.8, -0.8 * tan(30 deg)], [0, 0]])]).w.sum()` = 3.99589, not 4. "
-                  "Rounding the key (`np.round(0.5 * (la + lb), 12)`) restores 4 to 1e-12 at 20, "
-                  "30, 45 and 60 degrees and cell sizes 1/8-1/32 (measured on a copy). Horizontal "
-                  "cracks (singular patch, shear edge crack) and +-45 degrees on a square grid are "
-                  "not affected. Beta = 30 degrees, PU:", "",
+                  "the key `0.5 * (la + lb)`, with the `up` tie-break putting the two sides of a "
+                  "crack slit in order; the two sides are the same segment travelled both ways, "
+                  "evaluated from opposite ends, so their keys differed by rounding, the tie-break "
+                  "was skipped in some cells and a piece of the cell was dropped "
+                  "(`cell_points(Domain.rectangle(-1, -1, 1, 1), 0.0625, 4, cracks=[Crack([[-0.8, "
+                  "-0.8 * tan(30 deg)], [0, 0]])]).w.sum()` was 3.99589, not 4). The key is now "
+                  "rounded to 12 digits; the area is exact at 20-60 degrees (tests/test_quadrature.py). "
+                  "Beta = 30 degrees, PU:", "",
                   "| grid | quadrature area error | tip | K_I error | K_II error |", "|---|---|---|---|---|"]
         for label, r in m["defect_30deg"].items():
             for tid, t in r["tips"].items():
