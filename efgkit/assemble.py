@@ -8,8 +8,10 @@ Stiffness (seed 003 Eq. 22a) with test functions v and trial functions phi
 DOFs are node-major interleaved (2 I + c), so K is a block-sparse matrix with
 2 x 2 blocks. The compiled kernel visits each row I once, runs over the
 quadrature points in I's test support and adds their contributions straight
-into the row's blocks (no per-point dense matrices, no duplicate summation);
-the numpy reference forms the same matrix with scipy.sparse products.
+into the row's blocks (no per-point dense matrices, no duplicate summation).
+For Bubnov-Galerkin (v = phi) with a symmetric D it forms only the blocks
+J >= I and mirrors them, K_JI = K_IJ^T (half the products). The numpy reference
+forms the same matrix with scipy.sparse products.
 """
 
 from __future__ import annotations
@@ -92,8 +94,9 @@ def _pattern(t_ptr, t_point, trial_idx, trial_mask, n_cols, n_threads):
 
 @njit(cache=True, parallel=True)
 def _stiffness_blocks(indptr, cols, t_ptr, t_point, t_slot, tgx, tgy, trial_idx, trial_mask,
-                      gx, gy, w, D, n_threads):
-    """Blocks (nnz, 2, 2) of K in the pattern (indptr, cols)."""
+                      gx, gy, w, D, upper, n_threads):
+    """Blocks (nnz, 2, 2) of K in the pattern (indptr, cols); with ``upper`` only the blocks
+    J >= I (the rest is left zero for :func:`_mirror_upper`)."""
     n_rows = len(indptr) - 1
     n_cols = 0
     for c in cols:
@@ -111,7 +114,7 @@ def _stiffness_blocks(indptr, cols, t_ptr, t_point, t_slot, tgx, tgy, trial_idx,
                 ax = w[q] * tgx[q, a]
                 ay = w[q] * tgy[q, a]
                 for b in range(k):
-                    if not trial_mask[q, b]:
+                    if not trial_mask[q, b] or (upper and trial_idx[q, b] < I):
                         continue
                     bx = gx[q, b]
                     by = gy[q, b]
@@ -128,6 +131,29 @@ def _stiffness_blocks(indptr, cols, t_ptr, t_point, t_slot, tgx, tgy, trial_idx,
                     blk[1, 0] += ay * s1x + ax * s2x
                     blk[1, 1] += ay * s1y + ax * s2y
     return data
+
+
+@njit(cache=True, parallel=True)
+def _mirror_upper(indptr, cols, data):
+    """K_JI = K_IJ^T for the blocks J > I of a symmetric pattern (sorted columns); each
+    lower block is written once, by its row I."""
+    n_rows = len(indptr) - 1
+    for I in prange(n_rows):
+        for c in range(indptr[I], indptr[I + 1]):
+            J = cols[c]
+            if J <= I:
+                continue
+            lo, hi = indptr[J], indptr[J + 1]
+            while lo < hi:  # binary search for column I in row J
+                mid = (lo + hi) // 2
+                if cols[mid] < I:
+                    lo = mid + 1
+                else:
+                    hi = mid
+            data[lo, 0, 0] = data[c, 0, 0]
+            data[lo, 0, 1] = data[c, 1, 0]
+            data[lo, 1, 0] = data[c, 0, 1]
+            data[lo, 1, 1] = data[c, 1, 1]
 
 
 def _stiffness_numpy(test: Shape, trial: Shape, w: np.ndarray, D: np.ndarray) -> csr_array:
@@ -206,9 +232,12 @@ def stiffness(trial: Shape, w: np.ndarray, D: np.ndarray, test: Shape | None = N
     t_ptr, t_point, t_slot = point_to_function_map(test)
     nb = trial.neighbours
     indptr, cols = _pattern(t_ptr, t_point, nb.idx, nb.mask, trial.n_functions, threads)
+    D = np.ascontiguousarray(D, float)
+    symmetric = test is trial and np.array_equal(D, D.T)  # K_JI = K_IJ^T: half the work
     data = _stiffness_blocks(indptr, cols, t_ptr, t_point, t_slot, test.ddx, test.ddy, nb.idx,
-                             nb.mask, trial.ddx, trial.ddy, w, np.ascontiguousarray(D, float),
-                             threads)
+                             nb.mask, trial.ddx, trial.ddy, w, D, symmetric, threads)
+    if symmetric:
+        _mirror_upper(indptr, cols, data)
     K = bsr_array((data, cols, indptr), shape=(2 * test.n_functions, 2 * trial.n_functions))
     return csr_array(K.tocsr())
 

@@ -6,6 +6,7 @@ import pytest
 
 from efgkit import EFG, Domain, Elastic
 from efgkit.approx.mls import mls_shape
+from efgkit.approx.shape import Shape
 from efgkit.assemble import load_vector, lumped_mass, stiffness
 from efgkit.constraints import rigid_body_modes
 from efgkit.nodes import generate_nodes
@@ -43,6 +44,24 @@ def test_test_and_trial_operators_differ(setup):
     K2 = stiffness(sh, w, D, test=other, backend="numpy")
     assert abs(K1 - K2).max() <= 1e-12 * abs(K2).max()
     assert abs(K1 - K1.T).max() > 1e-6 * abs(K1).max()
+
+
+def test_mirrored_upper_half_equals_the_full_kernel(setup):
+    # test is trial with a symmetric D: only J >= I is formed and mirrored
+    _, _, w, sh = setup
+    D = Elastic(1.0, 0.3).D
+    copy = Shape(sh.neighbours, sh.values, sh.ddx, sh.ddy, sh.n_functions)  # full kernel
+    A, B = stiffness(sh, w, D), stiffness(sh, w, D, test=copy)
+    assert A.nnz == B.nnz and abs(A - B).max() <= 1e-13 * abs(B).max()
+
+
+def test_unsymmetric_D_takes_the_full_kernel(setup):
+    _, _, w, sh = setup
+    D = Elastic(1.0, 0.3).D.copy()
+    D[0, 2], D[2, 0] = 0.1, -0.05  # not a symmetric material: K is not symmetric
+    A, B = stiffness(sh, w, D), stiffness(sh, w, D, backend="numpy")
+    assert abs(A - B).max() <= 1e-12 * abs(B).max()
+    assert abs(A - A.T).max() > 1e-3 * abs(A).max()
 
 
 def test_load_vector_resultant(setup):
