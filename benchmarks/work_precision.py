@@ -260,7 +260,7 @@ NOTES = [
     "tip h = 0.5): EFG solve 0.060 s (MLS shape functions with the enrichment 0.028, "
     "stiffness 0.011, Nitsche terms 0.008, quadrature cells 0.006, solve 0.004) plus 0.036 s "
     "for the domain integrals; FEM solve 0.039 s (assembly 0.025, solve 0.010, Triangle "
-    "0.004) plus 0.022 s. The ratio between runs moved between 0.99 and 1.23 at these times "
+    "0.004) plus 0.022 s. The ratio between runs moved between 0.87 and 1.23 at these times "
     "on this shared machine.",
     "* PU enrichment reaches 0.1 % at the same clouds but costs 2-5 times more: its enriched "
     "nodes carry 8 extra unknowns each and their rows are denser.",
