@@ -55,9 +55,9 @@ def collapsed_rule(apex: np.ndarray, a: np.ndarray, b: np.ndarray, order: int):
 def _perimeter_param(p: np.ndarray, corner: np.ndarray, size: float) -> np.ndarray:
     """Counter-clockwise perimeter coordinate in [0, 4) of points on the square's boundary."""
     u = (p - corner) / size
-    s = np.where(np.isclose(u[:, 1], 0.0, atol=1e-12), u[:, 0],
-                 np.where(np.isclose(u[:, 0], 1.0, atol=1e-12), 1.0 + u[:, 1],
-                          np.where(np.isclose(u[:, 1], 1.0, atol=1e-12), 3.0 - u[:, 0],
+    s = np.where(np.isclose(u[:, 1], 0.0, rtol=0.0, atol=1e-12), u[:, 0],
+                 np.where(np.isclose(u[:, 0], 1.0, rtol=0.0, atol=1e-12), 1.0 + u[:, 1],
+                          np.where(np.isclose(u[:, 1], 1.0, rtol=0.0, atol=1e-12), 3.0 - u[:, 0],
                                    4.0 - u[:, 1])))
     return np.mod(s, 4.0)
 

@@ -346,3 +346,26 @@ def test_tip_fans_stay_in_their_cells_with_a_rosette():
                   cracks=(Crack([[-1.0, 0.0], [0.0, 0.0]], (False, True)),))
     d = discretize(scene, EFG(spacing=1 / 12, rosette=Rosette(1 / 6, 4, 9)))
     assert abs(d.points.w.sum() - 4.0) < 1e-11
+
+
+@pytest.mark.parametrize("vertices, tips", [
+    ([[1.03, 0.55], [1.01, 0.55]], (False, True)),  # tip cell cut by the right edge
+    ([[0.0, 0.5], [0.52, 0.5], [0.55, 0.53]], (False, True)),  # kink inside the tip cell
+    ([[0.31, 0.5], [0.35, 0.5]], (True, True)),  # both tips in one cell
+])
+def test_tip_cells_entered_by_boundary_or_another_segment_keep_the_body_area(vertices, tips):
+    # regression: the fan rule covered the whole square of a tip cell cut by the boundary
+    from efgkit import Crack
+
+    dom = Domain.rectangle(0, 0, 1.03, 1)
+    pts = cell_points(dom, 0.1, 4, cracks=[Crack(vertices, tips)])
+    assert abs(pts.w.sum() - dom.area) < 1e-12 and pts.w.min() > 0
+    assert dom.contains(pts.x).all()
+
+
+def test_tip_fan_exit_near_a_corner_keeps_the_cell_area():
+    # regression: exits within 1e-5 of a corner took the corner's perimeter value (rtol)
+    from efgkit.tip_quadrature import tip_cell_rule
+
+    x, w = tip_cell_rule(np.zeros(2), 1.0, np.array([0.5, 0.5]), np.array([[0.499995, 0.5]]), 8)
+    assert abs(w.sum() - 1.0) < 1e-14
