@@ -245,19 +245,21 @@ def _split_on_cracks(cloud: NodeCloud, cracks, spacing: np.ndarray, keep_single:
     """
     x = cloud.x
     seg_of = np.full(len(x), -1)
+    crack_of = np.full(len(x), -1)
     s0 = 0
-    tips = np.array([t.x for c in cracks for t in c.tip_list])
-    for c in cracks:
+    for i, c in enumerate(cracks):
         for k, (a, b) in enumerate(c.segments):
             ab = b - a
             t = np.clip((x - a) @ ab / (ab @ ab), 0.0, 1.0)
             on = np.hypot(*(x - a - t[:, None] * ab).T) <= 1e-6 * spacing
-            seg_of = np.where(on & (seg_of < 0), s0 + k, seg_of)
+            new = on & (seg_of < 0)
+            seg_of, crack_of = np.where(new, s0 + k, seg_of), np.where(new, i, crack_of)
         s0 += len(c.segments)
     at_tip = np.zeros(len(x), bool)
-    for tip in tips:
-        d = np.hypot(*(x - tip).T)
-        at_tip |= (d <= 1e-6 * spacing) | (keep_single & (d < cloud.radius))
+    for i, c in enumerate(cracks):
+        for tip in c.tip_list:
+            d = np.hypot(*(x - tip.x).T)
+            at_tip |= (d <= 1e-6 * spacing) | (keep_single & (crack_of == i) & (d < cloud.radius))
     seg_of[at_tip] = -1
     split = np.flatnonzero(seg_of >= 0)
     # put the split nodes exactly on their segment (they were within 1e-6 h of it): a node a

@@ -282,6 +282,17 @@ def test_see_through_keeps_nodes_on_the_crack_single_when_their_support_holds_th
     assert split[behind & ~holds].all()
 
 
+def test_see_through_splits_nodes_near_the_tip_of_another_crack():
+    # regression: a node on crack A stayed single when its support held crack B's tip
+    a = Crack([[0.0, 1.0], [2.0, 1.0]], tips=(False, True), name="A")
+    b = Crack([[0.5, 1.3], [1.5, 1.3]], tips=(True, True), name="B")
+    nodes = generate_nodes(Domain.rectangle(0, 0, 4, 2), EFG(spacing=0.25, crack_rule="see_through"),
+                           (a, b))
+    on = (np.abs(nodes.x[:, 1] - 1.0) < 1e-12) & (nodes.x[:, 0] > 0) & (nodes.x[:, 0] < 2)
+    holds_a = np.hypot(*(nodes.x - [2.0, 1.0]).T) < nodes.radius
+    assert (nodes.face[on & ~holds_a] != 0).all() and (nodes.face[on & holds_a] == 0).all()
+
+
 # --- partition of unity and linear reproduction under every rule -------------------------
 
 CLOUDS = {"face_nodes": dict(), "between_rows": dict(),
