@@ -11,7 +11,7 @@ import pytest
 
 from efgkit import EFG, Crack, Domain, Elastic, Field, Scene, Support, solve
 from efgkit.approx.tip_functions import TipGeometry, branch_functions, ramp, tip_coordinates, williams_modes
-from efgkit.discretize import approximation
+from efgkit.discretize import approximation, discretize
 from efgkit.fracture.fields import williams_displacement
 from efgkit.nodes import generate_nodes
 
@@ -391,3 +391,22 @@ def test_enriched_combinations_are_no_worse_than_the_linear_basis(enrichment, ru
         assert abs(res["KI"] - 1.0) <= 0.05, res["KI"]
     if rule == "diffraction" and enrichment in ("extrinsic_mls", "pu"):  # contain the exact field
         assert res["energy"] <= 0.05 * ref
+
+
+def test_intrinsic_blend_is_continuous_across_the_straight_r2_circle_of_a_kinked_crack():
+    # regression: points were picked by straight distance < r2, the ramp used the kink-mapped r
+    # (smaller behind the kink): the shape functions jumped by 8e-4 across |x - tip| = r2
+    tip = np.array([0.5, 0.0])
+    sc = Scene(Domain.rectangle(-1.5, -1.5, 1.5, 1.5), Elastic(1.0, 0.3),
+               cracks=(Crack([[-1.5, 1.5], [0.0, 0.0], [0.5, 0.0]], tips=(False, True)),))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        d = discretize(sc, EFG(spacing=0.1, enrichment="full", d_max=3.0, enrich_radius=0.8,
+                               ramp_inner=0.2))
+    ang = np.linspace(0.55 * np.pi, 1.45 * np.pi, 400)
+    u = np.column_stack([np.cos(ang), np.sin(ang)])
+    x_in, x_out = tip + (0.8 - 1e-9) * u, tip + (0.8 + 1e-9) * u
+    keep = sc.domain.contains(x_in) & sc.domain.contains(x_out)
+    a = d.shape_at(x_in[keep], derivatives=False).phi.toarray()
+    b = d.shape_at(x_out[keep], derivatives=False).phi.toarray()
+    assert np.abs(a - b).max() < 1e-7

@@ -163,13 +163,15 @@ class Approximation:
         nb = Neighbours(nb.idx, mask)
         enr = self.enrichment
         if enr is not None and enr.kind in ("radial", "full"):
-            tip, dist = enr.nearest_tip(x)
+            taken = np.zeros(len(x), bool)  # each point is enriched by one tip
             for t in range(len(enr.tips)):
-                near = np.flatnonzero((tip == t) & (dist < enr.r2))
+                near = enr.in_ramp(x, t)
+                near = near[~taken[near]]
+                taken[near] = True
                 if len(near) == 0:
                     continue
                 sub = nb.subset(near)
-                m, w, dw = self.weights(x[near], Neighbours(sub.idx, sub.mask), derivatives)
+                m, w, dw = self.weights(x[near], sub, derivatives)
                 lin = [None if v is None else v[near] for v in vals]
                 out = blend_intrinsic(x[near], self.nodes, Neighbours(sub.idx, m), w, dw, lin, enr, t,
                                       self.basis, derivatives)

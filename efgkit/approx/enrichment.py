@@ -123,11 +123,20 @@ class Enrichment:
             vals[on] = node_branch(nodes, sel[on], g, "full")
         return cls(kind, tips, r1, r2, ramp_kind, material.mu, material.kappa, sel, near[sel], vals)
 
-    def nearest_tip(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Index of the nearest tip and the distance to it, for points ``x (n, 2)``."""
-        d = np.stack([np.hypot(*(x - g.tip.x).T) for g in self.tips], axis=1)
-        k = np.argmin(d, axis=1)
-        return k, d[np.arange(len(x)), k]
+    def in_ramp(self, x: np.ndarray, t: int) -> np.ndarray:
+        """Indices of the points ``x (n, 2)`` whose tip coordinate r of tip ``t`` (kink-mapped,
+        as the ramp uses it) is below r2.
+
+        The map keeps the distance to the kink, so for a kinked crack only the points
+        within r2 of the tip or with | |x - kink| - |tip - kink| | < r2 can qualify.
+        """
+        g = self.tips[t]
+        near = np.hypot(*(x - g.tip.x).T) < self.r2
+        if g.kink is not None:
+            L = np.hypot(*(g.kink - g.tip.x))
+            near |= np.abs(np.hypot(*(x - g.kink).T) - L) < self.r2
+        idx = np.flatnonzero(near)
+        return idx[tip_coordinates(x[idx], g)[0] < self.r2]
 
 
 def node_branch(nodes, index: np.ndarray, geom: TipGeometry, kind: str):
