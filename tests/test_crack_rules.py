@@ -333,3 +333,17 @@ def test_shape_derivatives_match_finite_differences(key):
         fd = (_dense_phi(ap, x + e) - _dense_phi(ap, x - e)) / (2 * eps)
         err = np.abs(fd - an).max()
         assert err <= 1e-6 * np.abs(an).max(), (key, err, np.abs(an).max())
+
+
+@pytest.mark.parametrize("name", ["visibility", "diffraction", "transparency"])
+def test_a_line_through_a_kink_vertex_crosses_the_crack_once(name):
+    # regression: the vertex counted on both segments (t = 1 and t = 0): diffraction cut the
+    # pair there while 1e-9 to either side it only lengthened it
+    from efgkit.approx.crack_rules import crack_distances
+
+    lines = CrackLines.from_cracks([Crack([[0, 0], [1, 0], [2, 1]], tips=(True, True))])
+    nodes = NodeCloud(np.array([[1.0, -0.5]]), np.array([2.0]), np.array([False]))
+    xq = np.array([[1 - 1e-9, 0.5], [1.0, 0.5], [1 + 1e-9, 0.5]])
+    cut, d, _ = crack_distances(xq, np.repeat(nodes.x, 3, axis=0), np.full(3, 2.0), np.zeros(3, int),
+                                nodes, lines, CrackRule(name, 2.0, 0.5, 1.0))
+    assert cut[1] == cut[0] == cut[2] and abs(d[1] - d[0]) < 1e-6 and abs(d[1] - d[2]) < 1e-6

@@ -163,8 +163,10 @@ def _crossings(xq, xn, lines: CrackLines, s: int):
                   / np.where(ok, den, 1.0)[:, None] ** 2, 0.0)
     k = lines.crack[s]
     first, last = s == 0 or lines.crack[s - 1] != k, s == lines.n - 1 or lines.crack[s + 1] != k
-    lo = (t > 0) if (first and lines.is_tip[k, 0]) else (t >= 0)  # open at a tip
-    hi = (t < 1) if (last and lines.is_tip[k, 1]) else (t <= 1)
+    # open at a tip; an interior vertex belongs to the segment that starts there, so a line
+    # through a kink crosses the polyline once, not twice
+    lo = (t > 0) if (first and lines.is_tip[k, 0]) else (t >= 0)
+    hi = (t <= 1) if (last and not lines.is_tip[k, 1]) else (t < 1)
     return (side_x != side_n) & lo & hi, t, dt
 
 
