@@ -139,3 +139,20 @@ def test_bad_points_shape():
     nodes, _ = cloud("linear")
     with pytest.raises(ValueError, match=r"x must have shape \(n_points, 2\)"):
         mls_shape(np.zeros((3, 3)), nodes)
+
+
+@pytest.mark.parametrize("m", [3, 6, 7])
+def test_compiled_and_numpy_condition_estimates_agree(m):
+    # regression: for m > 3 the numpy path measured rcond after Jacobi scaling, the compiled
+    # one did not (27 times apart on a quadratic-basis point), so they refused different points
+    from efgkit.approx.kernels import _invert
+    from efgkit.approx.mls import _inv_rcond
+
+    rng = np.random.default_rng(m)
+    B = rng.standard_normal((m, m + 4)) * np.logspace(0, -4, m)[:, None]  # badly scaled rows
+    A = B @ B.T
+    inv = np.empty((m, m))
+    r_compiled = _invert(A, inv, m)
+    inv_np, r_np = _inv_rcond(A[None])
+    assert r_compiled == pytest.approx(r_np[0], rel=1e-8)
+    assert np.allclose(inv, inv_np[0], rtol=1e-8, atol=0)

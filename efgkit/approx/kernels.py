@@ -47,7 +47,11 @@ def _basis(bid, xi, eta, p):
 
 @njit(cache=True)
 def _invert(A, inv, m):
-    """Gauss-Jordan inverse with partial pivoting; returns rcond (1-norm), 0 if singular."""
+    """Gauss-Jordan inverse with partial pivoting; returns rcond (1-norm), 0 if singular.
+
+    For m > 3 the rcond is that of the Jacobi-scaled ``S A S``, ``S = diag(A)^-1/2``, as
+    :func:`efgkit.approx.mls._inv_rcond` computes it (0 if a diagonal entry is not positive).
+    """
     work = A.copy()
     for i in range(m):
         for j in range(m):
@@ -74,14 +78,20 @@ def _invert(A, inv, m):
                     for j in range(m):
                         work[r, j] -= f * work[c, j]
                         inv[r, j] -= f * inv[c, j]
+    scale = np.ones(m)
+    if m > 3:
+        for i in range(m):
+            if not A[i, i] > 0.0:
+                return 0.0
+            scale[i] = 1.0 / np.sqrt(A[i, i])
     na = 0.0
     ni = 0.0
     for j in range(m):
         sa = 0.0
         si = 0.0
         for i in range(m):
-            sa += abs(A[i, j])
-            si += abs(inv[i, j])
+            sa += abs(A[i, j]) * scale[i] * scale[j]
+            si += abs(inv[i, j]) / (scale[i] * scale[j])
         na = max(na, sa)
         ni = max(ni, si)
     return 1.0 / (na * ni)

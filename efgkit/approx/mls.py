@@ -44,7 +44,8 @@ class SingularMomentMatrix(ValueError):  # noqa: N818 (names the condition, like
 def _inv_rcond(A: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Inverses of stacked matrices ``A (n, m, m)`` and reciprocal 1-norm condition numbers.
 
-    3 x 3 (the linear basis) by the adjugate formula, others by LAPACK after a
+    3 x 3 (the linear basis) by the adjugate formula and an unscaled estimate (as the
+    compiled linear kernel computes it), others by LAPACK after a
     symmetric Jacobi scaling ``S A S``, ``S = diag(A)^-1/2``: the shape functions
     do not depend on the scaling of the basis, so neither should the condition
     estimate (the branch functions of an enriched basis are much smaller than
