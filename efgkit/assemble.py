@@ -258,15 +258,24 @@ def _with_enrichment(shape: Shape, w, D, backend) -> csr_array:
         raise ValueError("stiffness needs shape-function derivatives (derivatives=True)")
     eps = (e.gxx, e.gyy, csr_array(e.gxy + e.gyx))  # strain of each unknown, (n, n_extra)
     W = diags_array(w)
-    sig = [csr_array(W @ sum(D[i, j] * eps[j] for j in range(3) if D[i, j] != 0)) for i in range(3)]
     dxT, dyT = csr_array(shape.dx.T), csr_array(shape.dy.T)
-    kx = csr_array(dxT @ sig[0] + dyT @ sig[2])  # (n_functions, n_extra)
-    ky = csr_array(dyT @ sig[1] + dxT @ sig[2])
     nf = shape.n_functions
-    K_ne = csr_array(vstack([kx, ky], format="csr")[np.ravel(np.column_stack(
-        [np.arange(nf), nf + np.arange(nf)]))])  # interleave the x and y rows: 2 I + c
+    interleave = np.ravel(np.column_stack([np.arange(nf), nf + np.arange(nf)]))  # rows 2 I + c
+
+    def stresses(C):  # W C eps of every unknown: three (n_points, n_extra)
+        return [csr_array(W @ sum(C[i, j] * eps[j] for j in range(3) if C[i, j] != 0))
+                for i in range(3)]
+
+    def nodal_rows(sig):  # sum_q B_I^T sig: (2 n_functions, n_extra)
+        kx = csr_array(dxT @ sig[0] + dyT @ sig[2])
+        ky = csr_array(dyT @ sig[1] + dxT @ sig[2])
+        return csr_array(vstack([kx, ky], format="csr")[interleave])
+
+    sig = stresses(D)
+    K_ne = nodal_rows(sig)
+    K_en = K_ne.T if np.array_equal(D, D.T) else nodal_rows(stresses(D.T)).T  # E^T D B
     K_ee = csr_array(sum(eps[i].T @ sig[i] for i in range(3)))
-    return csr_array(bmat([[K_nn, K_ne], [K_ne.T, K_ee]], format="csr"))
+    return csr_array(bmat([[K_nn, K_ne], [K_en, K_ee]], format="csr"))
 
 
 def load_vector(shape: Shape, w: np.ndarray, values: np.ndarray) -> np.ndarray:

@@ -3,6 +3,7 @@ rigid-body null space, test/trial operators, loads and lumped mass."""
 
 import numpy as np
 import pytest
+from scipy.sparse import diags_array
 
 from efgkit import EFG, Domain, Elastic
 from efgkit.approx.mls import mls_shape
@@ -75,3 +76,24 @@ def test_lumped_mass_total(setup):
     m = lumped_mass(sh, w, rho=7.5)
     np.testing.assert_allclose(m[0::2].sum(), 7.5, rtol=1e-12)
     assert np.all(m[0::2] == m[1::2])
+
+
+@pytest.mark.parametrize("symmetric", [True, False])
+def test_enriched_stiffness_equals_B_transpose_W_D_B(symmetric):
+    # regression: the enrichment-node block was the transpose of the node-enrichment block,
+    # which holds for a symmetric D only (36 % off with an unsymmetric one)
+    from efgkit import Crack, Scene
+    from efgkit.discretize import discretize
+
+    sc = Scene(Domain.rectangle(0, 0, 2, 1), Elastic(1.0, 0.3),
+               cracks=(Crack([[0.0, 0.5], [0.9, 0.5]], tips=(False, True)),))
+    d = discretize(sc, EFG(spacing=0.25, enrichment="extrinsic_mls", rule_power=1.0))
+    D = Elastic(1.0, 0.3).D.copy()
+    if not symmetric:
+        D[0, 2], D[2, 0] = 0.1, -0.05
+    gxx, gxy, gyx, gyy = d.shape.grad_operators()
+    B = [gxx, gyy, gxy + gyx]  # Voigt rows, (n_points, n_dofs) each
+    W = diags_array(d.points.w)
+    ref = sum(B[i].T @ (W @ (D[i, j] * B[j])) for i in range(3) for j in range(3))
+    K = stiffness(d.shape, d.points.w, D)
+    assert d.shape.extra is not None and abs(K - ref).max() <= 1e-12 * abs(ref).max()
