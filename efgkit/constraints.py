@@ -78,10 +78,10 @@ class LinearSystem:
     spd : bool
         Symmetric positive definite (eligible for AMG + CG).
     n_coeffs : int
-        Number of MLS coefficients (2 n_functions).
+        Number of MLS coefficients, n_dofs (2 n_functions and any enrichment unknowns).
     free : (n_free,) int or None
         With elimination, the coefficient indices ``z`` stands for.
-    fixed_values : (2 n_functions,) or None
+    fixed_values : (n_dofs,) or None
         With elimination, the prescribed coefficients.
     """
 
@@ -93,7 +93,7 @@ class LinearSystem:
     fixed_values: np.ndarray | None = None
 
     def coefficients(self, z: np.ndarray) -> np.ndarray:
-        """MLS coefficients ``(2 n_functions,)`` from the solution ``z``."""
+        """MLS coefficients ``(n_dofs,)`` from the solution ``z``."""
         if self.free is None:
             return z[: self.n_coeffs]
         c = self.fixed_values.copy()
@@ -169,7 +169,7 @@ def lagrange(K, f, bc: Dirichlet, node_x: np.ndarray) -> LinearSystem:
     ``[[K, G^T], [G, 0]] [c; lambda] = [f; q]`` with ``G_kI = int N_k phi_I ds``
     and ``q_k = int N_k ubar ds`` for each hat N_k and prescribed component.
     """
-    Gpt = _component_operator(bc.shape, bc.fixed)  # (n_fixed_rows, 2n)
+    Gpt = _component_operator(bc.shape, bc.fixed)  # (n_fixed_rows, n_dofs)
     check_rigid_modes(Gpt, node_x)
     pts, comps = np.nonzero(bc.fixed)
     n_hat = int(bc.seg_nodes.max()) + 1

@@ -71,7 +71,9 @@ class Edge:
         return x, t
 
     def parameter(self, x: np.ndarray) -> np.ndarray:
-        """Parameter s in [0, 1] of points ``x (n, 2)`` projected on the edge, shape (n,)."""
+        """Parameter s in [0, 1] of points ``x (n, 2)`` on or near the edge, shape (n,): the
+        projection, clipped to the ends (on an arc, by angle: a point outside the swept
+        angle may clip to either end; callers check the distance)."""
         x = np.atleast_2d(np.asarray(x, dtype=float))
         if not self.is_arc:
             d = self.end - self.start

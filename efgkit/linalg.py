@@ -122,8 +122,11 @@ def solve(system: LinearSystem, solver: str = "auto", near_nullspace=None,
     ----------
     system : LinearSystem
     solver : {"auto", "direct", "amg"}
-        "direct": SuperLU. "amg": CG preconditioned by one multigrid V-cycle
-        (needs an SPD system). "auto" takes "amg" for SPD systems above
+        "direct": SuperLU. "amg": CG with a multigrid preconditioner (needs an
+        SPD system): with ``discretization``, the auxiliary-space preconditioner
+        of :mod:`efgkit.auxiliary` (LU on the boundary rows, a Chebyshev map and
+        one smoothed-aggregation V-cycle on a P1 stiffness of the nodes), else
+        one V-cycle of smoothed aggregation on the system matrix. "auto" takes "amg" for SPD systems above
         :data:`AUTO_AMG_THRESHOLD` unknowns and SuperLU otherwise; if CG
         misses ``rtol`` there it falls back to SuperLU.
     near_nullspace : ndarray (n_coeffs, k), optional

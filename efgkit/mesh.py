@@ -260,10 +260,11 @@ def mesh_scene(scene, h: float, tip_h: float | None = None, grading: float = 1.2
     tip_fan : int
         0, or the number ``n >= 5`` of elements around every tip: ``n - 1``
         vertices at angles ``pi (2 k / n - 1)``, ``k = 1..n-1``, from the
-        crack's direction, at the distance ``tip_h`` (``h`` without grading)
-        from the tip, so the tip's fan holds ``n`` elements of angle
-        ``2 pi / n`` (quarter-point elements want ``n >= 8``; Triangle alone
-        leaves 4-6).
+        crack's direction, at about the distance ``tip_h`` (``h`` without
+        grading) from the tip (less for small ``n``, so that the fan triangles
+        are not refined further, and at most 0.45 of the free radius around
+        the tip), so the tip's fan holds ``n`` elements of angle ``2 pi / n``
+        (quarter-point elements want ``n >= 8``; Triangle alone leaves 4-6).
     refine : array_like, shape (k, 2)
         Further points toward which the mesh is graded as toward the tips (a
         re-entrant corner, the tip of a crack modelled by a symmetry support);

@@ -157,7 +157,7 @@ class EFG:
     tip_order : int
         Gauss points per direction of the collapsed fan rules in the cells
         holding a tip (:mod:`efgkit.tip_quadrature`). The cells within
-        max(2 spacings, ``enrich_radius`` of intrinsic enrichment) of a tip
+        max(2 cell sizes, ``enrich_radius`` of intrinsic enrichment) of a tip
         are split 2 x 2 and use ``refined_order``.
     """
 

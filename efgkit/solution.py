@@ -15,8 +15,9 @@ __all__ = ["Solution"]
 class Solution:
     """Scene + discretisation + MLS coefficients.
 
-    The coefficients ``coeffs (2 n_nodes,)`` (node-major, interleaved) are MLS
-    parameters, not nodal displacements: evaluate fields with the methods.
+    The coefficients ``coeffs (n_dofs,)`` (node-major, interleaved, then any
+    enrichment unknowns) are MLS parameters, not nodal displacements: evaluate
+    fields with the methods.
 
     Attributes
     ----------

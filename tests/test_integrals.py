@@ -522,3 +522,28 @@ def test_point_force_balances_f_and_griffith_faces_carry_p():
     assert np.abs(sfar).max() < 1e-8 and np.abs(gfar).max() < 1e-8  # unloaded at infinity
     g = np.random.default_rng(0).normal(size=(5, 2, 2))
     assert np.allclose(rotate_gradient(rotate_gradient(g, 0.7), -0.7), g)
+
+
+@pytest.mark.parametrize("end", [0, 1])
+def test_points_on_the_crack_line_count_on_the_polylines_left_face(end):
+    # regression: they counted on the tip frame's upper face, which is the polyline's right
+    # face for a tip at its first vertex (solution and auxiliary field from opposite faces)
+    m = Elastic(7.0, 0.3)
+    sc = Scene(Domain.rectangle(-3, -3, 3, 3), m, cracks=(Crack([[-1.0, 0.0], [1.0, 0.0]], name="g"),))
+    tip = next(t for t in sc.tips if t.end == end)
+    x, w, r, th = polar_rule(tip.x, tip.angle, 1.0, nr=8, nt=48)
+    behind = -np.cos(tip.angle)  # +x for the tip at (-1, 0), -x for (1, 0)
+    line = tip.x + np.outer(np.linspace(0.1, 0.9, 9), [behind, 0.0])
+    left = np.array([0.0, 1e-9])  # the polyline runs along +x: its left face is y > 0
+    K = []
+    for pts in (line, line + left):
+        xa = np.vstack([x, pts])
+        wa = np.concatenate([w, np.full(len(pts), 0.01)])
+        d = (xa - tip.x) @ np.array([[np.cos(tip.angle), -np.sin(tip.angle)],
+                                     [np.sin(tip.angle), np.cos(tip.angle)]])
+        theta = np.arctan2(d[:, 1], d[:, 0])
+        theta[len(x):] = np.pi if end == 1 else -np.pi  # the left face in the tip frame
+        s, g = williams_field(np.hypot(*d.T), theta, tip.angle, m)
+        res = domain_integrals(xa, wa, s, g, tip, m, QFunction("wendland_c2", 1.0))
+        K.append((res.KI, res.KII, res.T))
+    assert np.allclose(K[0], K[1], rtol=0, atol=1e-6)

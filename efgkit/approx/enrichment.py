@@ -39,7 +39,7 @@ from .tip_functions import TipGeometry, branch_functions, ramp, tip_coordinates,
 
 __all__ = ["Enrichment", "blend_intrinsic", "extra_columns"]
 
-_INTRINSIC = {"radial": "radial", "full": "full"}
+_INTRINSIC = ("radial", "full")
 
 
 @dataclass(frozen=True, eq=False)
@@ -167,7 +167,7 @@ def blend_intrinsic(x, nodes, nb, w, dw, lin, enr: Enrichment, tip: int, basis: 
     Parameters
     ----------
     x : ndarray (n, 2)
-        Points within r2 of the tip.
+        Points within r2 of the tip (kink-mapped distance, :meth:`Enrichment.in_ramp`).
     nodes : NodeCloud
     nb : Neighbours
         Their neighbours (after the crack rule).
@@ -179,6 +179,8 @@ def blend_intrinsic(x, nodes, nb, w, dw, lin, enr: Enrichment, tip: int, basis: 
     tip : int
     basis : str
         The polynomial basis extended by the branch functions.
+    derivatives : bool
+        Also the x and y derivatives.
 
     Returns
     -------

@@ -10,8 +10,10 @@ smooth boundaries (Sects. 4.4, 4.5.1). Circular holes are treated exactly
 (segment-disc test, analytic tangent points); other holes through the
 vertices of their boundary polyline (silhouette vertices as wrap points).
 
-A node on the hole boundary has itself as tangent point, so diffraction
-leaves its pairs unmodified (its support spans the hole as with see-through).
+A node on a circular hole or at a vertex of a polygonal one is its own
+tangent point, so diffraction leaves its pairs unmodified (its support spans
+the hole as with see-through); a node inside a polygon edge wraps around the
+edge's end vertices like any other node.
 """
 
 from __future__ import annotations

@@ -64,7 +64,7 @@ class Shape:
         nodal ones).
 
     The operators ``phi``, ``dx``, ``dy`` are csr_array (n_points, n_functions):
-    ``shape.phi @ coeffs[0::2]`` evaluates u_x of the nodal part. With
+    ``shape.phi @ coeffs[0:2 * n_functions:2]`` evaluates u_x of the nodal part. With
     enrichment use :meth:`displacement` and :meth:`gradient`, which add it.
     """
 

@@ -249,7 +249,9 @@ def domain_integrals(x, w, stress, grad_u, tip: Tip, material: Elastic, q: QFunc
     Points at the tip itself (``r <= 1e-12 r_out``) are left out (every
     :class:`QFunction` has ``grad q = 0`` there, and the fields may be
     infinite); points on the crack line behind the tip count as on the
-    upper face (``theta = +pi``), like :meth:`Crack.side`.
+    polyline's left face, like :meth:`Crack.side` and the crack rules: the
+    upper face (``theta = +pi``) of a tip at the crack's last vertex, the
+    lower one (``theta = -pi``) of a tip at its first vertex.
 
     Parameters
     ----------
@@ -337,8 +339,10 @@ def domain_integrals(x, w, stress, grad_u, tip: Tip, material: Elastic, q: QFunc
     Wd = 0.5 * np.einsum("mij,mij->m", s, g)
     J = float(np.sum(ws * (np.einsum("mj,mj->m", P, dq) - Wd * dq[:, 0])))
     # interaction integrals with the three auxiliary fields; a point on the crack line
-    # behind the tip is on the upper face, as in Crack.side (on the line = left face)
-    x2 = np.where(np.abs(d[sel, 1]) <= 1e-12 * q.r_out, 0.0, d[sel, 1])
+    # behind the tip is on the polyline's left face, as in Crack.side: upper (+0.0 gives
+    # theta = +pi) for a tip at the last vertex, lower (-0.0: -pi) at the first
+    on_line = 0.0 if tip.end == 1 else -0.0
+    x2 = np.where(np.abs(d[sel, 1]) <= 1e-12 * q.r_out, on_line, d[sel, 1])
     sa, ga = _auxiliary(r[sel], np.arctan2(x2, d[sel, 0]), material)
     Pa = np.einsum("mij,kmi->kmj", s, ga[:, :, :, 0]) + np.einsum("kmij,mi->kmj", sa, g[:, :, 0])
     Wa = np.einsum("mij,kmij->km", s, ga)

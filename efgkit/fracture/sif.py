@@ -4,7 +4,7 @@
 :mod:`efgkit.fracture.integrals` over several domains about a tip and reports
 their mean and spread, with warnings when a domain leaves the body, crosses
 another crack, holds another tip or a kink, or when the spread is large.
-:func:`default_radii` chooses the domains (seed 001 Sect. 7: >= 10 spacings).
+:func:`default_radii` chooses the domains (seed 001 Sects. 7 and 10: >= 10 spacings).
 """
 
 from __future__ import annotations
@@ -109,7 +109,7 @@ def _limits(scene, tip: Tip) -> dict[str, float]:
 def default_radii(scene, tip: Tip, h: float, multiples=(10.0, 12.5, 15.0)) -> tuple[float, ...]:
     """J-domain radii ``multiples * h``, shrunk to fit the free disc about the tip.
 
-    Seed 001 (Sect. 10) advises a radius of at least 10 spacings (or ~500
+    Seed 001 (Sects. 7 and 10) advises a radius of at least 10 spacings (or ~500
     points). The free radius is the distance from the tip to the domain
     boundary, another crack or tip, or a kink of its own crack; if
     ``max(multiples) h`` exceeds 0.9 of it, all radii are scaled down in
