@@ -36,7 +36,6 @@ __all__ = ["p1_stiffness", "chebyshev_inverse", "auxiliary_preconditioner"]
 
 CHEBYSHEV_DEGREE = 8
 CHEBYSHEV_INTERVAL = (0.03, 1.05)  # eigenvalues of Phi: <= 1 (partition of unity), >= ~0.02
-AMG_CANDIDATES = 3
 AMG_OPTIONS = dict(symmetry="symmetric", max_coarse=500, improve_candidates=None,
                    presmoother=("gauss_seidel", {"sweep": "symmetric"}),
                    postsmoother=("gauss_seidel", {"sweep": "symmetric"}))
@@ -208,7 +207,7 @@ def auxiliary_preconditioner(A: csr_array, K: csr_array, x: np.ndarray, phi: csr
         Pi = csr_array(Pi + coo_array((A.diagonal()[isys[lone]], (lone, lone)), shape=Pi.shape))
     from .constraints import rigid_body_modes
 
-    ml = pyamg.smoothed_aggregation_solver(Pi, B=rigid_body_modes(x)[idof[mask]][:, :AMG_CANDIDATES],
+    ml = pyamg.smoothed_aggregation_solver(Pi, B=rigid_body_modes(x)[idof[mask]],
                                            **AMG_OPTIONS)
     coarse = splu(csc_array(ml.levels[-1].A))
     t["amg"] = time.perf_counter()

@@ -294,8 +294,9 @@ def solve_fem(scene: Scene, fem: FEM) -> FEMSolution:
     sbasis = basis.with_element(elem)
     D, uD, R = _essential(scene, mesh, fmap, sbasis)
     free = np.setdiff1d(np.arange(basis.N), D)
-    A = K[free][:, free]
-    b = f[free] - K[free][:, D] @ uD
+    K_free = K[free]
+    A = K_free[:, free]
+    b = f[free] - K_free[:, D] @ uD
     z, info = solve(LinearSystem(A, b, True, len(free)), near_nullspace=R[free])
     u = np.zeros(basis.N)
     u[free], u[D] = z, uD

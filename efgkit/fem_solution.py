@@ -31,7 +31,7 @@ def _solve2(J, r):
     ok = det != 0
     d = np.where(ok, det, 1.0)
     out = np.array([(J[1, 1] * r[0] - J[0, 1] * r[1]) / d, (J[0, 0] * r[1] - J[1, 0] * r[0]) / d])
-    return np.where(ok, out, 0.0), ok
+    return np.where(ok, out, 0.0)
 
 
 @dataclass(frozen=True, eq=False)
@@ -113,12 +113,12 @@ class FEMSolution:
         G = self._geometry[:, :, elems]
         gel = self.basis.mesh.elem()
         J0 = np.stack([G[:, 1] - G[:, 0], G[:, 2] - G[:, 0]], axis=1)
-        X, _ = _solve2(J0, x.T - G[:, 0])
+        X = _solve2(J0, x.T - G[:, 0])
         for _ in range(30):
             ev = [gel.lbasis(X, i) for i in range(G.shape[1])]
             F = np.einsum("dgn,gn->dn", G, np.array([e[0] for e in ev]))
             J = np.einsum("dgn,gen->den", G, np.array([e[1] for e in ev]))
-            dX, _ = _solve2(J, x.T - F)
+            dX = _solve2(J, x.T - F)
             X = X + dX
             if np.abs(dX).max(initial=0.0) < 1e-14:
                 break

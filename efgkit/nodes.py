@@ -221,10 +221,10 @@ def _with_rosettes(x, is_bnd, domain: Domain, method: EFG, cracks):
     ros = method.rosette
     keep = np.ones(len(x), bool)
     added = []
+    off = ros.radius * (1 + 0.5 / ros.rings)  # outer ring plus half a ring gap
     for c in cracks:
         for tip in c.tip_list:
-            gap = ros.radius / ros.rings
-            keep &= np.hypot(*(x - tip.x).T) > ros.radius + 0.5 * gap
+            keep &= np.hypot(*(x - tip.x).T) > off
             r = ros.radius * np.arange(1, ros.rings + 1) / ros.rings
             th = tip.angle - np.pi + 2 * np.pi * np.arange(ros.per_ring - 1) / (ros.per_ring - 1)
             R, T = np.meshgrid(r, th, indexing="ij")

@@ -37,13 +37,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..methods import CRACK_RULES
 from ..nodes import NodeCloud
 from ..search import Neighbours
 
 __all__ = ["CRACK_RULES", "CrackLines", "CrackRule", "crack_distances", "crack_weights",
            "pair_arrays", "padded_weights", "wrap_distance"]
 
-CRACK_RULES = ("visibility", "diffraction", "transparency", "see_through")
 TIP_SNAP = 1e-7  # nodes closer than this fraction of their support radius to a tip are at it
 SIGHT_OFFSET = 1e-7  # split nodes look from this fraction of their support radius off the crack
 

@@ -229,7 +229,7 @@ def rotate_gradient(g: np.ndarray, angle: float) -> np.ndarray:
     return np.einsum("ik,nkl,jl->nij", R, np.asarray(g, dtype=float), R)
 
 
-def _polar_derivatives(dfdr, dfdt, r, theta):
+def _polar_derivatives(dfdr, dfdt, theta):
     """``(df/dx1, df/dx2)`` from ``df/dr`` and ``df/dtheta / r`` (chain rule)."""
     c, s = np.cos(theta), np.sin(theta)
     return c * dfdr - s * dfdt, s * dfdr + c * dfdt
@@ -277,8 +277,8 @@ def williams_gradient(r, theta, KI: float, KII: float, mu: float, kappa: float) 
     dU2 = (KI * (0.5 * c * (kappa + 1 - 2 * c**2) + 2 * c * s**2)
            - KII * (-0.5 * s * (kappa - 1 - 2 * s**2) - 2 * s * c**2))
     g = np.empty((len(r), 2, 2))
-    g[:, 0, 0], g[:, 0, 1] = _polar_derivatives(a * U1 / 2, a * dU1, r, theta)
-    g[:, 1, 0], g[:, 1, 1] = _polar_derivatives(a * U2 / 2, a * dU2, r, theta)
+    g[:, 0, 0], g[:, 0, 1] = _polar_derivatives(a * U1 / 2, a * dU1, theta)
+    g[:, 1, 0], g[:, 1, 1] = _polar_derivatives(a * U2 / 2, a * dU2, theta)
     return g
 
 

@@ -423,6 +423,3 @@ def nodal_volumes(x, domain, method: str = "voronoi", samples_per_node: int = 64
     if total == 0:
         raise ValueError("no sample point fell inside the domain; increase samples_per_node")
     return counts * (area / total)
-
-
-# --- domain independence ---------------------------------------------------------------
