@@ -23,6 +23,7 @@ import numpy as np
 from efgkit import EFG, Domain, Elastic, Scene, Support, Traction, solve
 from efgkit.approx.mls import mls_shape
 from efgkit.assemble import stiffness
+from efgkit.io import write_json
 from efgkit.nodes import generate_nodes
 from efgkit.quadrature import cell_points
 from efgkit.search import BoxGrid, find_neighbours
@@ -175,8 +176,7 @@ def main(argv=None) -> dict:
     cmd = "python benchmarks/core.py" + (" --quick" if args.quick else "")
     if not args.no_write:
         (ROOT / "docs" / "performance.md").write_text(markdown(res, cmd))
-        (ROOT / "benchmarks" / "out").mkdir(exist_ok=True)
-        (ROOT / "benchmarks" / "out" / "core.json").write_text(json.dumps(res, indent=1))
+        write_json(res, ROOT / "benchmarks" / "out" / "core.json")
     return res
 
 

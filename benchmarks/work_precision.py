@@ -34,6 +34,7 @@ import numpy as np
 
 from efgkit import EFG, Crack, Domain, Elastic, Field, Rosette, Scene, Support, solve
 from efgkit.fem import FEM, solve_fem
+from efgkit.io import write_json
 
 ROOT = Path(__file__).resolve().parents[1]
 TARGET = 1e-3  # 0.1 % error
@@ -309,8 +310,7 @@ def main(argv=None) -> dict:
     if not args.no_write:
         res["figure"] = str(figure(res, ROOT / "docs" / "figures" / "work_precision.png"))
         (ROOT / "docs" / "performance_work_precision.md").write_text(markdown(res, cmd))
-        (ROOT / "benchmarks" / "out").mkdir(exist_ok=True)
-        (ROOT / "benchmarks" / "out" / "work_precision.json").write_text(json.dumps(res, indent=1))
+        write_json(res, ROOT / "benchmarks" / "out" / "work_precision.json")
     return res
 
 

@@ -292,9 +292,10 @@ class Field:
         return self.stress(x, material) @ material.compliance().T
 
 
-def field_errors(exact: Field, material: Elastic, x: np.ndarray, w: np.ndarray, u: np.ndarray,
+def field_errors(exact: Field | None, scene, x: np.ndarray, w: np.ndarray, u: np.ndarray,
                  strain: np.ndarray) -> dict:
-    """Relative L2 displacement and energy-norm errors of a computed field against ``exact``.
+    """Relative L2 displacement and energy-norm errors of a computed field against ``exact``
+    (default ``scene.exact``), in ``scene.material``.
 
     ``x (n, 2)``, ``w (n,)`` a quadrature rule of the body, ``u (n, 2)`` and
     ``strain (n, 3)`` (Voigt, engineering shear) the computed field there. The energy
@@ -305,6 +306,10 @@ def field_errors(exact: Field, material: Elastic, x: np.ndarray, w: np.ndarray, 
     -------
     dict with ``l2`` and ``energy`` (relative) and the absolute ``energy_abs``.
     """
+    exact = scene.exact if exact is None else exact
+    if exact is None:
+        raise ValueError("no exact field: give errors(exact=Field) or Scene(exact=...)")
+    material = scene.material
     ue, se = exact.displacement(x, material), exact.stress(x, material)
     ee = se @ material.compliance().T
     de = ee - strain

@@ -342,16 +342,12 @@ class FEMSolution:
         """
         from skfem import Basis
 
-        exact = self.scene.exact if exact is None else exact
-        if exact is None:
-            raise ValueError("no exact field: give errors(exact=Field) or Scene(exact=...)")
-        mat = self.scene.material
         eb = Basis(self.basis.mesh, self.basis.elem, intorder=2 * self.fem.order + 2)
         q = eb.interpolate(self.u)
         x, w = np.asarray(eb.global_coordinates()).reshape(2, -1).T, eb.dx.ravel()
         u, g = np.asarray(q).reshape(2, -1).T, q.grad.reshape(2, 2, -1)
         eps = np.column_stack([g[0, 0], g[1, 1], g[0, 1] + g[1, 0]])
-        return field_errors(exact, mat, x, w, u, eps)
+        return field_errors(exact, self.scene, x, w, u, eps)
 
     def cmod(self, crack) -> float:
         """Crack-mouth opening: ``(u_left - u_right) . n`` at the mouth vertex.

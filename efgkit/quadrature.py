@@ -22,6 +22,7 @@ from scipy.spatial import Delaunay
 from scipy.special import roots_jacobi
 
 from .geometry import Domain
+from .tip_quadrature import tip_cells
 
 __all__ = ["Points", "cell_points", "gauss_legendre", "triangle_points", "triangle_rule"]
 
@@ -360,7 +361,7 @@ def cell_points(domain: Domain, cell_size: float, order: int, zones=(),
             sel = (sel[:, None, :] * k + sub).reshape(-1, 2)
         size = cell_size / max(k, 1)
         if tips:
-            sel, fans = _tip_cells(sel, origin, size, tips, cracks, tip_rays,
+            sel, fans = tip_cells(sel, origin, size, tips, cracks, tip_rays,
                                    tip_order or refined_order, domain.boundary_segments())
             for x, w in fans:
                 parts.append((x, w, np.full(len(x), offset)))
@@ -373,57 +374,6 @@ def cell_points(domain: Domain, cell_size: float, order: int, zones=(),
     used = np.zeros(offset, bool)
     used[owner] = True
     return Points(x, w, (np.cumsum(used) - 1)[owner])
-
-
-def _tip_cells(sel, origin, size, tips, cracks, tip_rays, order, boundary):
-    """Remove the cells of ``sel (c, 2)`` whose closed square holds a tip; return the
-    remaining cells and the fan rules (x, w) of the removed ones.
-
-    The fan covers the whole square and splits it only along the tip's own crack
-    segment, so a cell that the body's ``boundary (m, 2, 2)`` or any other crack
-    segment (a kink, another crack) enters is left to the clipped rule of
-    :func:`_grid_rule` instead: correct area, without the collapsed rule at the tip.
-    """
-    from .tip_quadrature import tip_cell_rule
-
-    fans, drop = [], np.zeros(len(sel), bool)
-    by_name = {c.name: c for c in cracks}
-    for t, tip in enumerate(tips):
-        u = (tip.x - origin) / size
-        hold = np.all((sel >= np.floor(u - 1e-9) - 1) & (sel <= np.floor(u + 1e-9)), axis=1)
-        hold &= np.all((sel <= u + 1e-9) & (u - 1e-9 <= sel + 1), axis=1)
-        crack = by_name[tip.crack]
-        v = crack.vertices if tip.end == 0 else crack.vertices[::-1]
-        others = [c.segments for c in cracks if c is not crack]
-        others.append(np.stack([v[1:-1], v[2:]], axis=1))  # the tip's crack beyond segment 0
-        blocking = np.concatenate([boundary, *others])
-        rays = [v[1] - v[0]]
-        if tip_rays is not None:
-            rays.append(np.asarray(tip_rays[t], dtype=float).reshape(-1, 2))
-        rays = np.vstack(rays)
-        for i in np.flatnonzero(hold & ~drop):
-            corner = origin + size * sel[i]
-            if _enters_square(blocking, corner, size):
-                continue
-            fans.append(tip_cell_rule(corner, size, tip.x, rays, order))
-            drop[i] = True
-    return sel[~drop], fans
-
-
-def _enters_square(seg: np.ndarray, corner: np.ndarray, size: float) -> bool:
-    """Whether any segment of ``seg (m, 2, 2)`` passes through the open square
-    ``corner + [0, size]^2`` (shrunk by 1e-9 size: lying along its sides does not count)."""
-    lo, hi = corner + 1e-9 * size, corner + (1 - 1e-9) * size
-    a, d = seg[:, 0], seg[:, 1] - seg[:, 0]
-    t0, t1 = np.zeros(len(seg)), np.ones(len(seg))
-    for k in range(2):  # Liang-Barsky clipping against the two slabs
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ta, tb = (lo[k] - a[:, k]) / d[:, k], (hi[k] - a[:, k]) / d[:, k]
-        flat = d[:, k] == 0
-        inside = (a[:, k] > lo[k]) & (a[:, k] < hi[k])
-        t0 = np.where(flat, np.where(inside, t0, np.inf), np.maximum(t0, np.minimum(ta, tb)))
-        t1 = np.where(flat, t1, np.minimum(t1, np.maximum(ta, tb)))
-    return bool(np.any(t0 < t1))
 
 
 def triangle_points(domain: Domain, nodes, order: int) -> Points:

@@ -164,10 +164,7 @@ class Solution:
         -------
         dict with ``l2`` and ``energy`` (relative) and the absolute ``energy_abs``.
         """
-        exact = self.scene.exact if exact is None else exact
-        if exact is None:
-            raise ValueError("no exact field: give errors(exact=Field) or Scene(exact=...)")
         from .analytic import field_errors
 
-        return field_errors(exact, self.scene.material, self.disc.points.x, self.disc.points.w,
+        return field_errors(exact, self.scene, self.disc.points.x, self.disc.points.w,
                             self.displacement(), self.strain())
