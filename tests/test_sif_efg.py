@@ -15,7 +15,7 @@ import pytest
 
 from efgkit import EFG, Crack, Domain, Elastic, Field, Loop, Scene, Support, Traction, solve
 from efgkit.crack import Tip
-from efgkit.fracture.fields import griffith_field
+from efgkit.fracture.griffith import griffith_field
 from efgkit.fracture.integrals import domain_integrals, nodal_volumes
 from efgkit.fracture.qfunctions import QFunction
 from efgkit.fracture.sif import tip_result

@@ -8,7 +8,7 @@ sigma'_22 = sigma cos^2 beta, sigma'_12 = sigma sin beta cos beta, and the field
 sum of
 
 * the mode-I Westergaard field of remote biaxial tension sigma'_22
-  (:func:`efgkit.fracture.fields.griffith_field`, ``loading="remote"``),
+  (:func:`efgkit.fracture.griffith.griffith_field`, ``loading="remote"``),
 * the uniform stress sigma'_11 - sigma'_22 along the crack (it does not see the crack),
 * the mode-II Westergaard field of remote shear tau = sigma'_12 (:func:`mode_ii_field`).
 
@@ -39,7 +39,7 @@ from pathlib import Path
 import numpy as np
 
 from efgkit import EFG, Crack, Domain, Elastic, Scene, Support, solve
-from efgkit.fracture.fields import griffith_field
+from efgkit.fracture.griffith import griffith_field
 from efgkit.report import Report
 
 NAME = "inclined"
