@@ -35,12 +35,14 @@ from efgkit.fracture.griffith import griffith_field  # noqa: E402
 from efgkit.fracture.integrals import (  # noqa: E402
     SIF,
     FaceLoad,
+    contract,
     domain_integrals,
+    domain_integrands,
     k_from_j,
-    nodal_volumes,
 )
 from efgkit.fracture.qfunctions import QFunction  # noqa: E402
 from efgkit.fracture.sif import TipResult, default_radii, tip_result  # noqa: E402
+from efgkit.fracture.volumes import nodal_volumes  # noqa: E402
 from efgkit.geometry import Loop  # noqa: E402
 from efgkit.plot import plot_domain_dependence  # noqa: E402
 from efgkit.quadrature import cell_points  # noqa: E402
@@ -469,6 +471,26 @@ def test_bad_input_domain_integrals():
         domain_integrals(x, w, s, g, tip, m, q, ahead)
     with pytest.raises(ValueError, match=r"FaceLoad.side must hold \+1"):
         FaceLoad(np.array([[-0.1, 0.0]]), [0.1], [[0.0, 1.0]], np.zeros((1, 2, 2)), [0])
+
+
+def test_one_integrand_pass_serves_every_domain():
+    """contract(domain_integrands(r_max), q) is domain_integrals(q) for every q inside r_max
+    (tip_result forms the integrands once per tip)."""
+    m = Elastic(2.0, 0.3)
+    tip, x, w, s, g, faces = _griffith(1.0, 1.5, m, 1.0, angle=0.7, centre=(2.0, -1.0))
+    terms = domain_integrands(x, w, s, g, tip, m, 1.0)
+    for q in (QFunction("wendland_c2", 0.3), QFunction("plateau", 0.6, r_in=0.2),
+              QFunction("power", 1.0, n=3.0), QFunction("cubic_spline", 0.45)):
+        a, b = contract(terms, q, faces), domain_integrals(x, w, s, g, tip, m, q, faces)
+        assert a.n_points == b.n_points and a.radius == b.radius
+        for key in ("J", "KI", "KII", "T", "mismatch"):
+            assert getattr(a, key) == pytest.approx(getattr(b, key), rel=1e-12, abs=1e-14), key
+    with pytest.raises(ValueError, match=r"q.r_out = 1.5 exceeds the radius 1 the integrands"):
+        contract(terms, QFunction("wendland_c2", 1.5))
+    with pytest.raises(ValueError, match=r"radius 1e-09 holds no points \(nearest point at r = "):
+        contract(terms, QFunction("wendland_c2", 1e-9))
+    with pytest.raises(TypeError, match="faces must be a FaceLoad or None"):
+        contract(terms, QFunction("wendland_c2", 0.5), faces="none")
 
 
 # --- the fields the integrals are built on (efgkit.fracture.fields additions) ------------

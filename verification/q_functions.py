@@ -7,7 +7,7 @@ n = 2..5 (Eq. 14), evaluated
 * at the background quadrature points of the EFG solution (:meth:`Solution.sifs` does
   this), and
 * point-wise at the nodes with Voronoi nodal volumes (seed 001 Eq. 8: the SPH way;
-  :func:`efgkit.fracture.integrals.nodal_volumes`), split nodes moved 1e-9 of their
+  :func:`efgkit.fracture.volumes.nodal_volumes`), split nodes moved 1e-9 of their
   support radius onto their own face and given half of their position's volume each.
 
 Two problems:
@@ -32,8 +32,9 @@ from pathlib import Path
 import numpy as np
 
 from efgkit import EFG, Crack, Domain, Elastic, Field, Loop, Scene, Support, solve
-from efgkit.fracture.integrals import domain_integrals, nodal_volumes
+from efgkit.fracture.integrals import domain_integrals
 from efgkit.fracture.qfunctions import QFunction
+from efgkit.fracture.volumes import nodal_volumes
 from efgkit.io import write_figure
 from efgkit.report import Report
 

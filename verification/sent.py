@@ -29,9 +29,10 @@ import numpy as np
 
 from efgkit import EFG, Crack, Domain, Elastic, Loop, Rosette, Scene, Support, solve
 from efgkit.fem import FEM, solve_fem
-from efgkit.fracture.integrals import domain_integrals, nodal_volumes
+from efgkit.fracture.integrals import domain_integrals
 from efgkit.fracture.qfunctions import QFunction
 from efgkit.fracture.sif import tip_result
+from efgkit.fracture.volumes import nodal_volumes
 from efgkit.report import Report
 
 NAME = "sent"

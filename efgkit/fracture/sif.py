@@ -16,7 +16,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..crack import Tip
-from .integrals import SIF, FaceLoad, domain_integrals
+from .integrals import SIF, FaceLoad, contract, domain_integrands
 from .qfunctions import QFunction
 
 __all__ = ["TipResult", "default_radii", "face_loads", "tip_result"]
@@ -196,7 +196,10 @@ def tip_result(scene, tip: Tip, x, w, stress, grad_u, radii, q="wendland_c2",
                enriched: tuple[float, float] | None = None) -> TipResult:
     """K_I, K_II, J and T of a tip over several domains, with a domain-independence verdict.
 
-    :func:`domain_integrals` is evaluated for every radius and the results are
+    The domain integrals (:func:`~efgkit.fracture.integrals.domain_integrals`) of
+    every radius come from one pass over the points of the largest disc
+    (:func:`~efgkit.fracture.integrals.domain_integrands`, then
+    :func:`~efgkit.fracture.integrals.contract` per q), and the results are
     averaged. A warning (``warnings.warn`` and :attr:`TipResult.warnings`) is
     issued when the spread exceeds ``spread_tol``, when a domain disc leaves
     the body (reaches the domain boundary), crosses another crack, holds
@@ -211,7 +214,7 @@ def tip_result(scene, tip: Tip, x, w, stress, grad_u, radii, q="wendland_c2",
     tip : Tip
         One of ``scene.tips``.
     x, w, stress, grad_u :
-        As in :func:`domain_integrals`.
+        As in :func:`~efgkit.fracture.integrals.domain_integrals`.
     radii : sequence of float
         At least three domain radii (:func:`default_radii`).
     q : str or callable
@@ -245,7 +248,7 @@ def tip_result(scene, tip: Tip, x, w, stress, grad_u, radii, q="wendland_c2",
     Examples
     --------
     The exact field ``K_I = 1``, ``K_II = 0.5`` of an edge crack's tip on a
-    polar Gauss rule (as in :func:`domain_integrals`):
+    polar Gauss rule (as in :func:`~efgkit.fracture.integrals.domain_integrals`):
 
     >>> from efgkit import Crack, Domain, Elastic, Scene
     >>> from efgkit.fracture.fields import williams_gradient, williams_stress
@@ -287,13 +290,14 @@ def tip_result(scene, tip: Tip, x, w, stress, grad_u, radii, q="wendland_c2",
         bad = rs[rs > lim[key]]
         if len(bad):
             notes.append(f"tip {tip.id}: J domain of radius {bad[0]:.4g} " + text.format(d=lim[key]))
-    doms = []
-    for R in rs:
-        d = domain_integrals(x, w, stress, grad_u, tip, scene.material, _q_for(q, float(R)), faces)
-        if q_T is not None and q_T != q:
-            d = replace(d, T=domain_integrals(x, w, stress, grad_u, tip, scene.material,
-                                              _q_for(q_T, float(R)), faces).T)
-        doms.append(d)
+    qs = [_q_for(q, float(R)) for R in rs]
+    qs_T = [_q_for(q_T, float(R)) for R in rs] if q_T is not None and q_T != q else None
+    # one pass over the points of the largest disc serves every domain
+    r_max = max(f.r_out for f in qs + (qs_T or []))
+    terms = domain_integrands(x, w, stress, grad_u, tip, scene.material, r_max)
+    doms = [contract(terms, f, faces) for f in qs]
+    if qs_T is not None:
+        doms = [replace(d, T=contract(terms, f, faces).T) for d, f in zip(doms, qs_T, strict=True)]
     KI = np.array([d.KI for d in doms])
     KII = np.array([d.KII for d in doms])
     norm = math.hypot(np.mean(KI), np.mean(KII)) or float(np.max(np.hypot(KI, KII)))
