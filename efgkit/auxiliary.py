@@ -26,10 +26,11 @@ It is symmetric positive definite, so it drives CG on the EFG system.
 from __future__ import annotations
 
 import time
+import warnings
 
 import numpy as np
 from scipy.sparse import coo_array, csc_array, csr_array
-from scipy.sparse.linalg import LinearOperator, splu
+from scipy.sparse.linalg import LinearOperator, MatrixRankWarning, splu
 from scipy.spatial import Delaunay
 
 __all__ = ["p1_stiffness", "chebyshev_inverse", "auxiliary_preconditioner"]
@@ -147,6 +148,27 @@ def _vcycle(levels, coarse, b: np.ndarray, i: int = 0) -> np.ndarray:
     return x
 
 
+class _PseudoInverse:
+    def __init__(self, A):
+        self.pinv = np.linalg.pinv(np.asarray(A.toarray() if hasattr(A, "toarray") else A),
+                                   hermitian=True)
+
+    def solve(self, b):
+        return self.pinv @ b
+
+
+def coarse_solver(A):
+    """LU of the coarsest multigrid level; a pseudo-inverse when that level is singular (an
+    aggregate of one node cannot carry three rigid-body candidates, and the tentative
+    prolongator then has dependent columns), which is exact on the range of ``A``."""
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", MatrixRankWarning)
+            return splu(csc_array(A))
+    except (RuntimeError, MatrixRankWarning):
+        return _PseudoInverse(A)
+
+
 def auxiliary_preconditioner(A: csr_array, K: csr_array, x: np.ndarray, phi: csr_array,
                              D: np.ndarray, free: np.ndarray | None = None, domain=None,
                              cuts=None) -> tuple[LinearOperator, dict]:
@@ -209,7 +231,7 @@ def auxiliary_preconditioner(A: csr_array, K: csr_array, x: np.ndarray, phi: csr
 
     ml = pyamg.smoothed_aggregation_solver(Pi, B=rigid_body_modes(x)[idof[mask]],
                                            **AMG_OPTIONS)
-    coarse = splu(csc_array(ml.levels[-1].A))
+    coarse = coarse_solver(ml.levels[-1].A)
     t["amg"] = time.perf_counter()
     F = csr_array(phi[inner][:, inner])
     F.sort_indices()

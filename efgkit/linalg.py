@@ -1,6 +1,7 @@
 """Linear solvers: SuperLU for small and medium systems, preconditioned CG for
-large SPD ones. Every solve checks its residual and raises :class:`SolverError`
-rather than return a wrong answer.
+large SPD ones, and for large Lagrange-multiplier saddle points Uzawa steps on
+the augmented Lagrangian with the same CG. Every solve checks its residual and
+raises :class:`SolverError` rather than return a wrong answer.
 
 The CG preconditioner is the auxiliary-space one of :mod:`efgkit.auxiliary`
 (P1 stiffness on a Delaunay triangulation of the nodes, linked to the MLS
@@ -17,7 +18,7 @@ import time
 import warnings
 
 import numpy as np
-from scipy.sparse import csc_array, csr_array
+from scipy.sparse import csc_array, csr_array, diags_array
 from scipy.sparse.linalg import LinearOperator, MatrixRankWarning, cg, splu
 
 from .constraints import LinearSystem
@@ -26,6 +27,8 @@ __all__ = ["solve", "SolverError", "AUTO_AMG_THRESHOLD"]
 
 AUTO_AMG_THRESHOLD = 20_000  # unknowns above which "auto" uses CG for SPD systems
 MAX_ITERATIONS = 400
+AUGMENTATION = 1e3  # augmented-Lagrangian weight: its largest diagonal entry over K's
+MAX_UZAWA_STEPS = 20
 
 
 class SolverError(RuntimeError):
@@ -57,11 +60,11 @@ def _sa_preconditioner(A, near_nullspace):
     """One V-cycle of pyamg smoothed aggregation on ``A`` itself."""
     import pyamg
 
-    from .auxiliary import _vcycle
+    from .auxiliary import _vcycle, coarse_solver
 
     ml = pyamg.smoothed_aggregation_solver(A, B=near_nullspace, symmetry="symmetric",
                                            max_coarse=500)
-    coarse = splu(csc_array(ml.levels[-1].A))
+    coarse = coarse_solver(ml.levels[-1].A)
     M = LinearOperator(A.shape, matvec=lambda r: _vcycle(ml.levels, coarse, np.ravel(r)),
                        dtype=float)
     return M, {"levels": len(ml.levels)}
@@ -82,36 +85,99 @@ def _auxiliary(system, disc, K):
     return M, info
 
 
-def _iterative(system, near_nullspace, rtol, discretization, stiffness):
-    """CG with the auxiliary-space (or plain SA) preconditioner; returns z, info."""
-    A = csr_array(system.A)
-    A.sort_indices()
-    if A.nnz < 2**31 - 1:  # 32-bit indices: a quarter less memory traffic per product
-        A = csr_array((A.data, A.indices.astype(np.int32), A.indptr.astype(np.int32)),
-                      shape=A.shape)
-    t0 = time.perf_counter()
+def _preconditioner(system, near_nullspace, discretization, stiffness):
+    """The auxiliary-space preconditioner (with the discretisation and the bare stiffness)
+    or smoothed aggregation on ``system.A``; returns M, info."""
     if discretization is not None and stiffness is not None:
         M, info = _auxiliary(system, discretization, stiffness)
         info["preconditioner"] = "auxiliary"
-    else:
-        ns = None
-        if near_nullspace is not None:
-            ns = np.asarray(near_nullspace, dtype=float)
-            ns = ns[system.free] if system.free is not None else ns
-            ns = ns if ns.shape[0] == A.shape[0] else None
-        M, info = _sa_preconditioner(A, ns)
-        info["preconditioner"] = "smoothed_aggregation"
-    t1 = time.perf_counter()
+        return M, info
+    ns = None
+    if near_nullspace is not None:
+        ns = np.asarray(near_nullspace, dtype=float)
+        ns = ns[system.free] if system.free is not None else ns
+        ns = ns if ns.shape[0] == system.A.shape[0] else None
+    M, info = _sa_preconditioner(csr_array(system.A), ns)
+    info["preconditioner"] = "smoothed_aggregation"
+    return M, info
+
+
+def _compact(A) -> csr_array:
+    """CSR with sorted 32-bit indices when they fit: a quarter less memory traffic per product."""
+    A = csr_array(A)
+    A.sort_indices()
+    if A.nnz < 2**31 - 1:
+        A = csr_array((A.data, A.indices.astype(np.int32), A.indptr.astype(np.int32)),
+                      shape=A.shape)
+    return A
+
+
+def _cg(A, b, M, atol, x0=None):
+    """CG to ``||A x - b|| <= atol``; returns x, iterations, converged."""
     count = [0]
 
     def step(_):
         count[0] += 1
 
-    z, flag = cg(A, system.b, rtol=0.25 * rtol, atol=0.0, maxiter=MAX_ITERATIONS, M=M,
-                 callback=step)
-    info.update(setup_time=t1 - t0, cg_time=time.perf_counter() - t1, iterations=count[0],
-                converged=flag == 0)
+    x, flag = cg(A, b, x0=x0, rtol=0.0, atol=atol, maxiter=MAX_ITERATIONS, M=M, callback=step)
+    return x, count[0], flag == 0
+
+
+def _iterative(system, near_nullspace, rtol, discretization, stiffness):
+    """CG with the auxiliary-space (or plain SA) preconditioner; returns z, info."""
+    A = _compact(system.A)
+    t0 = time.perf_counter()
+    M, info = _preconditioner(system, near_nullspace, discretization, stiffness)
+    t1 = time.perf_counter()
+    z, its, ok = _cg(A, system.b, M, 0.25 * rtol * float(np.linalg.norm(system.b)))
+    info.update(setup_time=t1 - t0, cg_time=time.perf_counter() - t1, iterations=its,
+                converged=ok)
     return z, info
+
+
+def _augmented_lagrangian(system, near_nullspace, rtol, discretization, stiffness):
+    """The saddle point ``[[K, G^T], [G, 0]] [c; lambda] = [f; q]`` by Uzawa steps.
+
+    With ``D`` the row sums of ``|G|`` (a lumped multiplier mass) and ``A_rho = K +
+    rho G^T D^-1 G`` (SPD once the constraints hold the rigid-body modes), each step
+    solves ``A_rho c = f + G^T (rho D^-1 q - lambda)`` by CG with one preconditioner
+    and sets ``lambda += rho D^-1 (G c - q)``. At a fixed point ``G c = q`` and ``K c
+    + G^T lambda = f``: the Lagrange solution itself, not a penalty approximation.
+    The multiplier error shrinks by about ``1 / (1 + rho mu)`` per step (``mu`` the
+    eigenvalues of the Schur complement in the ``D`` metric); ``rho`` puts the largest
+    diagonal entry of the augmentation at ``AUGMENTATION`` times K's, as a penalty
+    would, so a few steps reach ``rtol``. The ``K c + G^T lambda - f`` part of the
+    residual is each step's CG residual, the other part is ``G c - q``.
+    """
+    n = system.n_coeffs
+    A = csr_array(system.A)
+    K, G = A[:n, :n], A[n:, :n]
+    f, q = system.b[:n], system.b[n:]
+    d_inv = 1.0 / np.asarray(abs(G).sum(axis=1)).ravel()
+    P = csr_array(G.T @ diags_array(d_inv) @ G)
+    rho = AUGMENTATION * K.diagonal().max() / P.diagonal().max()
+    A_rho = _compact(K + rho * P)
+    bnorm = float(np.linalg.norm(system.b))
+    t0 = time.perf_counter()
+    M, info = _preconditioner(LinearSystem(A_rho, f, True, n), near_nullspace, discretization,
+                              stiffness)
+    t1 = time.perf_counter()
+    c, lam, its, steps = np.zeros(n), np.zeros(G.shape[0]), 0, 0
+    ok = False
+    while steps < MAX_UZAWA_STEPS:
+        rhs = f + G.T @ (rho * d_inv * q - lam)
+        c, k, converged = _cg(A_rho, rhs, M, 0.25 * rtol * bnorm, x0=c)
+        its, steps = its + k, steps + 1
+        gap = G @ c - q
+        lam = lam + rho * d_inv * gap
+        if not converged:
+            break
+        if float(np.linalg.norm(gap)) <= 0.5 * rtol * bnorm:
+            ok = True
+            break
+    info.update(setup_time=t1 - t0, cg_time=time.perf_counter() - t1, iterations=its,
+                uzawa_steps=steps, converged=ok)
+    return np.concatenate([c, lam]), info
 
 
 def solve(system: LinearSystem, solver: str = "auto", near_nullspace=None,
@@ -122,13 +188,15 @@ def solve(system: LinearSystem, solver: str = "auto", near_nullspace=None,
     ----------
     system : LinearSystem
     solver : {"auto", "direct", "amg"}
-        "direct": SuperLU. "amg": CG with a multigrid preconditioner (needs an
-        SPD system): with ``discretization``, the auxiliary-space preconditioner
-        of :mod:`efgkit.auxiliary` (LU on the boundary rows, a Chebyshev map and
+        "direct": SuperLU. "amg": CG with a multigrid preconditioner: with
+        ``discretization``, the auxiliary-space preconditioner of
+        :mod:`efgkit.auxiliary` (LU on the boundary rows, a Chebyshev map and
         one smoothed-aggregation V-cycle on a P1 stiffness of the nodes), else
-        one V-cycle of smoothed aggregation on the system matrix. "auto" takes "amg" for SPD systems above
-        :data:`AUTO_AMG_THRESHOLD` unknowns and SuperLU otherwise; if CG
-        misses ``rtol`` there it falls back to SuperLU.
+        one V-cycle of smoothed aggregation on the system matrix; a Lagrange
+        saddle point takes Uzawa steps on the augmented Lagrangian, each a CG
+        solve with that preconditioner (:func:`_augmented_lagrangian`). "auto"
+        takes "amg" above :data:`AUTO_AMG_THRESHOLD` unknowns and SuperLU
+        otherwise; if CG misses ``rtol`` there it falls back to SuperLU.
     near_nullspace : ndarray (n_coeffs, k), optional
         Rigid-body modes, for smoothed aggregation on the system matrix (only
         used without ``discretization``).
@@ -146,7 +214,7 @@ def solve(system: LinearSystem, solver: str = "auto", near_nullspace=None,
     -------
     z : ndarray (n,)
     info : dict with ``solver``, ``residual`` and (CG) ``iterations``,
-        ``preconditioner``, ``setup_time``, ``cg_time``.
+        ``preconditioner``, ``setup_time``, ``cg_time`` (and ``uzawa_steps``).
 
     Raises
     ------
@@ -165,19 +233,22 @@ def solve(system: LinearSystem, solver: str = "auto", near_nullspace=None,
     n = A.shape[0]
     if solver not in ("auto", "direct", "amg"):
         raise ValueError(f"solver must be 'auto', 'direct' or 'amg', got {solver!r}")
-    if solver == "amg" and not system.spd:
-        raise ValueError("solver='amg' needs an SPD system; the Lagrange-multiplier system is "
-                         "a saddle point: use solver='direct' or another bc method")
+    saddle = not system.spd and system.free is None and system.n_coeffs < n
+    if solver == "amg" and not (system.spd or saddle):
+        raise ValueError("solver='amg' needs an SPD system or a Lagrange-multiplier saddle "
+                         "point [[K, G^T], [G, 0]]: use solver='direct'")
     if not (isinstance(rtol, (int, float)) and 0 < rtol < 1):
         raise ValueError(f"rtol must lie in (0, 1), got {rtol!r}")
-    use_amg = solver == "amg" or (solver == "auto" and system.spd and n > AUTO_AMG_THRESHOLD)
+    use_amg = solver == "amg" or (solver == "auto" and (system.spd or saddle)
+                                  and n > AUTO_AMG_THRESHOLD)
     info = {"solver": "amg" if use_amg else "direct"}
     bnorm = float(np.linalg.norm(b))
     if bnorm == 0.0:
         info["residual"] = 0.0
         return np.zeros(n), info
     if use_amg:
-        z, extra = _iterative(system, near_nullspace, rtol, discretization, stiffness)
+        iterate = _iterative if system.spd else _augmented_lagrangian
+        z, extra = iterate(system, near_nullspace, rtol, discretization, stiffness)
         info.update(extra)
         if solver == "auto" and not (np.all(np.isfinite(z)) and
                                      np.linalg.norm(A @ z - b) <= rtol * bnorm):
