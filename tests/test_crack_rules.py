@@ -41,16 +41,6 @@ def _approx(key: str, layout: str, **kw):
         return approximation(SCENE, m, nodes), m.spacing
 
 
-def _dense_weights(ap, x):
-    """w_I(x) after the rule, dense (n_points, n_nodes)."""
-    nb = find_neighbours(x, ap.nodes, ap.boxes)
-    mask, w, _ = ap.weights(x, nb, derivatives=False)
-    out = np.zeros((len(x), ap.nodes.n))
-    r, c = np.nonzero(mask)
-    out[r, nb.idx[r, c]] = w[r, c]
-    return out
-
-
 def _dense_phi(ap, x):
     return ap.shape(x, derivatives=False).phi.toarray()
 
@@ -193,7 +183,7 @@ def test_continuity_across_shadow_lines_and_faces(key, layout):
     for rho in (0.25 * h, 0.5 * h, h, 1.5 * h):
         xp = rho * np.column_stack([np.cos(th + d), np.sin(th + d)])
         xm = rho * np.column_stack([np.cos(th - d), np.sin(th - d)])
-        w_jump = max(w_jump, np.abs(_dense_weights(ap, xp) - _dense_weights(ap, xm)).max())
+        w_jump = max(w_jump, np.abs(ap.weight_values(xp) - ap.weight_values(xm)).max())
         phi_jump = max(phi_jump, np.abs(_dense_phi(ap, xp) - _dense_phi(ap, xm)).sum(axis=1).max())
     rule = _rule(key, h).name
     continuous = rule == "diffraction" or rule == "see_through" or (
@@ -207,14 +197,14 @@ def test_continuity_across_shadow_lines_and_faces(key, layout):
         # extension ahead of the tip its weight falls within a layer of that width: probe
         # +-1e-4 h off the line
         ahead = np.array([[rho, s * 1e-4 * h] for rho in (0.25 * h, 0.5 * h, h) for s in (1, -1)])
-        wa = _dense_weights(ap, ahead).reshape(3, 2, -1)
+        wa = ap.weight_values(ahead).reshape(3, 2, -1)
         assert np.abs(wa[:, 0] - wa[:, 1]).max() >= 0.1
     # across the faces: h/2 behind the tip for see-through, one spacing (>= kappa h, where
     # transparency is opaque) for the others
     r_face = 0.5 * h if rule == "see_through" else h
     xf = np.array([[-r_face, 1e-9 * h], [-r_face, -1e-9 * h]])
     face = np.abs(np.diff(_dense_phi(ap, xf), axis=0)).sum()
-    w_face = np.abs(np.diff(_dense_weights(ap, xf), axis=0)).max()
+    w_face = np.abs(np.diff(ap.weight_values(xf), axis=0)).max()
     if rule == "see_through":
         assert face <= 0.02, face  # the crack is effectively shortened (seed 003 Fig. 18)
     else:
@@ -231,7 +221,7 @@ def test_weights_continuous_on_a_dense_circle(key):
 
     def max_step(n):
         th = np.linspace(-np.pi + 1e-3, np.pi - 1e-3, n)
-        w = _dense_weights(ap, rho * np.column_stack([np.cos(th), np.sin(th)]))
+        w = ap.weight_values(rho * np.column_stack([np.cos(th), np.sin(th)]))
         return np.abs(np.diff(w, axis=0)).max()
 
     coarse, fine = max_step(4001), max_step(8001)
@@ -245,7 +235,7 @@ def test_visibility_weights_jump_on_a_dense_circle():
 
     def max_step(n):
         th = np.linspace(-np.pi + 1e-3, np.pi - 1e-3, n)
-        w = _dense_weights(ap, rho * np.column_stack([np.cos(th), np.sin(th)]))
+        w = ap.weight_values(rho * np.column_stack([np.cos(th), np.sin(th)]))
         return np.abs(np.diff(w, axis=0)).max()
 
     assert max_step(8001) >= 0.9 * max_step(4001) >= 0.1

@@ -44,7 +44,6 @@ from efgkit import EFG, Crack, Domain, Elastic, Scene
 from efgkit.discretize import approximation
 from efgkit.nodes import generate_nodes
 from efgkit.report import Report
-from efgkit.search import find_neighbours
 
 NAME = "crack_rules"
 TITLE = "Crack rules: weight and shape functions at a tip (seed 003 Sect. 4, Figs. 12-17, 25)"
@@ -88,16 +87,6 @@ def shape_values(ap, x: np.ndarray) -> np.ndarray:
     return ap.shape(x, derivatives=False).phi.toarray()
 
 
-def weight_values(ap, x: np.ndarray) -> np.ndarray:
-    """Weights w_I(x) after the crack rule, dense (n_points, n_nodes)."""
-    nb = find_neighbours(x, ap.nodes, ap.boxes)
-    mask, w, _ = ap.weights(x, nb, derivatives=False)
-    out = np.zeros((len(x), ap.nodes.n))
-    rows, cols = np.nonzero(mask)
-    out[rows, nb.idx[rows, cols]] = w[rows, cols]
-    return out
-
-
 def shadow_angles(ap) -> np.ndarray:
     """Angles of the shadow lines ahead of the tip: directions tip - x_I of the nodes whose
     support holds the tip (the tip is at the origin), excluding the crack faces."""
@@ -121,7 +110,7 @@ def jumps(ap, h: float) -> dict:
         # the 1e-7 d_m by which split nodes look from their face (crack_rules.sight_positions)
         xl = np.array([[r, LINE_EPS * h], [r, -LINE_EPS * h]])
         x = np.vstack([xf, xp, xm, xl])
-        phi, w = shape_values(ap, x), weight_values(ap, x)
+        phi, w = shape_values(ap, x), ap.weight_values(x)
         k = len(th)
         out["face"].append(float(np.abs(phi[0] - phi[1]).sum()))
         out["w_face"].append(float(np.abs(w[0] - w[1]).max()))
@@ -161,7 +150,7 @@ def contour_data(ap, node: int, h: float, n: int):
     x = np.column_stack([X.ravel(), Y.ravel()])
     x[:, 1] = np.where(np.abs(x[:, 1]) < FACE_EPS * h, FACE_EPS * h, x[:, 1])
     inside = np.all(np.abs(x) <= 1.0, axis=1)
-    w = np.where(inside, weight_values(ap, x)[:, node], np.nan).reshape(X.shape)
+    w = np.where(inside, ap.weight_values(x)[:, node], np.nan).reshape(X.shape)
     p = np.where(inside, shape_values(ap, x)[:, node], np.nan).reshape(X.shape)
     return X, Y, w, p
 

@@ -40,6 +40,7 @@ import numpy as np
 
 from efgkit import EFG, Crack, Domain, Elastic, Scene, Support, solve
 from efgkit.fracture.griffith import griffith_field
+from efgkit.io import write_figure
 from efgkit.report import Report
 
 NAME = "inclined"
@@ -260,10 +261,7 @@ def figure(curves: dict, path: Path) -> Path:
         ax.set_title(f"{LABELS[v]}, beta = 45 deg (exact K_I = K_II = {KI:.4f})", fontsize=9)
         ax.legend(fontsize=6)
     fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=100)
-    plt.close(fig)
-    return path
+    return write_figure(fig, path, dpi=100)
 
 
 def markdown(record: dict) -> list[str]:

@@ -123,6 +123,16 @@ class Approximation:
                 dw[rows] = np.stack([dwx, dwy], axis=-1)
         return mask, w, dw
 
+    def weight_values(self, x: np.ndarray) -> np.ndarray:
+        """The weights w_I(x) under the rules, dense (n_points, n_nodes): for plots and
+        checks of the crack rules on a few points."""
+        nb = find_neighbours(x, self.nodes, self.boxes)
+        mask, w, _ = self.weights(x, nb, derivatives=False)
+        out = np.zeros((len(x), self.nodes.n))
+        rows, cols = np.nonzero(mask)
+        out[rows, nb.idx[rows, cols]] = w[rows, cols]
+        return out
+
     def shape(self, x: np.ndarray, derivatives: bool = True) -> Shape:
         """Shape functions (and the enrichment operators) at points ``x (n, 2)``.
 
