@@ -5,11 +5,8 @@ Mirrors :class:`efgkit.solution.Solution` (``displacement``, ``strain``,
 post-processing needs: quadrature-point fields for domain integrals, the
 crack-mouth opening and support reactions; plus VTU output and figures.
 
-Points are located in the mesh with a trapezoid-map finder on the straight
-triangles, then mapped to the reference triangle by Newton's method on the
-element's (possibly isoparametric) map. A point on a crack line (within
-1e-12 of the domain size) is evaluated on the crack's *left* face, the
-:mod:`efgkit.crack` convention (left of a segment ``a -> b``).
+Points are located in the mesh by :class:`efgkit.fem_locate.PointLocator`; a
+point on a crack line is evaluated on the crack's *left* face.
 """
 
 from __future__ import annotations
@@ -21,17 +18,9 @@ from pathlib import Path
 import numpy as np
 
 from .analytic import field_errors
+from .fem_locate import PointLocator
 
 __all__ = ["FEMSolution"]
-
-
-def _solve2(J, r):
-    """Solve the 2x2 systems ``J[:, :, n] dX[:, n] = r[:, n]``; 0 where J is singular."""
-    det = J[0, 0] * J[1, 1] - J[0, 1] * J[1, 0]
-    ok = det != 0
-    d = np.where(ok, det, 1.0)
-    out = np.array([(J[1, 1] * r[0] - J[0, 1] * r[1]) / d, (J[0, 0] * r[1] - J[1, 0] * r[0]) / d])
-    return np.where(ok, out, 0.0)
 
 
 @dataclass(frozen=True, eq=False)
@@ -95,77 +84,8 @@ class FEMSolution:
         return self.basis.with_element(self.basis.elem.elem)
 
     @cached_property
-    def _finder(self):
-        from matplotlib.tri import Triangulation
-
-        n0 = int(self.mesh.origin.max()) + 1
-        x = self.mesh.x[:n0]
-        return Triangulation(x[:, 0], x[:, 1], self.mesh.origin[self.mesh.t]).get_trifinder()
-
-    @cached_property
-    def _geometry(self):
-        """Element node coordinates of the geometric map, shape (2, n_geometric_nodes, n_elements)."""
-        sk = self.basis.mesh
-        return sk.doflocs[:, sk.dofs.element_dofs]
-
-    def _inverse(self, elems, x):
-        """Reference coordinates (2, n) of points ``x (n, 2)`` in elements ``elems (n,)``."""
-        G = self._geometry[:, :, elems]
-        gel = self.basis.mesh.elem()
-        J0 = np.stack([G[:, 1] - G[:, 0], G[:, 2] - G[:, 0]], axis=1)
-        X = _solve2(J0, x.T - G[:, 0])
-        for _ in range(30):
-            ev = [gel.lbasis(X, i) for i in range(G.shape[1])]
-            F = np.einsum("dgn,gn->dn", G, np.array([e[0] for e in ev]))
-            J = np.einsum("dgn,gen->den", G, np.array([e[1] for e in ev]))
-            dX = _solve2(J, x.T - F)
-            X = X + dX
-            if np.abs(dX).max(initial=0.0) < 1e-14:
-                break
-        return X
-
-    def _locate(self, x):
-        """Elements (n,) and reference coordinates (2, n) of points ``x (n, 2)``."""
-        from scipy.spatial import cKDTree
-
-        dom = self.scene.domain
-        x = np.atleast_2d(np.asarray(x, dtype=float)).copy()
-        if x.ndim != 2 or x.shape[1] != 2 or not np.all(np.isfinite(x)):
-            raise ValueError(f"x must be finite points of shape (n, 2), got shape {x.shape}")
-        outside = ~dom.contains(x, tol=1e-9 * dom.size)
-        if outside.any():
-            k = int(np.argmax(outside))
-            raise ValueError(f"{int(outside.sum())} point(s) lie outside the body, e.g. x[{k}] = "
-                             f"{x[k].tolist()}: fields are defined only in the material")
-        for c in self.scene.cracks:  # points on a crack line go to its left face
-            on = c.distance(x) <= 1e-12 * dom.size
-            if on.any():
-                a, ab = c.segments[:, 0], c.segments[:, 1] - c.segments[:, 0]
-                p = x[on]
-                s = np.clip(np.einsum("nkd,kd->nk", p[:, None] - a, ab) / (ab * ab).sum(1), 0, 1)
-                d = np.linalg.norm(p[:, None] - a - s[..., None] * ab, axis=-1)
-                t = ab[np.argmin(d, axis=1)]
-                t /= np.linalg.norm(t, axis=1)[:, None]
-                x[on] += 1e-10 * dom.size * np.column_stack([-t[:, 1], t[:, 0]])
-        e = np.asarray(self._finder(x[:, 0], x[:, 1]))
-        X = np.zeros((2, len(x)))
-        found = e >= 0
-        X[:, found] = self._inverse(e[found], x[found])
-        bad = ~found | (self._outside(X) > 1e-9)
-        if bad.any():  # curved elements: try the elements with the nearest centroids
-            G = self._geometry
-            k = min(16, G.shape[2])
-            _, cand = cKDTree(G[:, :3].mean(axis=1).T).query(x[bad], k=k)
-            cand = cand.reshape(-1, k)
-            Xc = self._inverse(cand.ravel(), np.repeat(x[bad], k, axis=0)).reshape(2, -1, k)
-            best = np.argmin(self._outside(Xc), axis=1)
-            rows = np.arange(len(cand))
-            e[bad], X[:, bad] = cand[rows, best], Xc[:, rows, best]
-        return e, X
-
-    @staticmethod
-    def _outside(X):
-        return np.maximum.reduce([-X[0], -X[1], X[0] + X[1] - 1, np.zeros(X.shape[1:])])
+    def _locator(self) -> PointLocator:
+        return PointLocator(self.scene, self.mesh, self.basis.mesh)
 
     def _at(self, elems, X, grad: bool):
         """Displacement (n, 2) or displacement gradient (n, 2, 2) at reference points."""
@@ -175,7 +95,7 @@ class FEMSolution:
         U = np.stack([self.u[2 * sd], self.u[2 * sd + 1]])  # (2, n_local, n)
         if not grad:
             return np.einsum("cin,in->nc", U, np.array([e[0] for e in ev]))
-        G = self._geometry[:, :, elems]
+        G = self._locator.geometry[:, :, elems]
         gel = self.basis.mesh.elem()
         J = np.einsum("dgn,gen->den", G, np.array([gel.lbasis(X, i)[1] for i in range(G.shape[1])]))
         dref = np.array([e[1] for e in ev])  # (n_local, 2, n)
@@ -194,12 +114,12 @@ class FEMSolution:
         """Displacement at points ``x (n, 2)`` (default: the quadrature points), shape (n, 2)."""
         if x is None:
             return np.asarray(self._qp).reshape(2, -1).T
-        return self._at(*self._locate(x), grad=False)
+        return self._at(*self._locator(x), grad=False)
 
     def _grad(self, x):
         if x is None:
             return self._qp.grad.reshape(2, 2, -1).transpose(2, 0, 1)
-        return self._at(*self._locate(x), grad=True)
+        return self._at(*self._locator(x), grad=True)
 
     def strain(self, x=None) -> np.ndarray:
         """Strain (xx, yy, xy engineering) at points ``x (n, 2)``, shape (n, 3)."""
