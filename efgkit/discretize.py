@@ -198,7 +198,9 @@ def approximation(scene: Scene, method: EFG, nodes: NodeCloud,
         if method.crack_rule == "transparency":
             _warn_close_to_crack(nodes, lines, method.spacing, method.enrichment)
         if method.enrichment != "none":
-            if method.crack_rule == "visibility":
+            # The sqrt(r) basis has no angular discontinuity and needs no smoothing (seed 003
+            # Sect. 5.3.2); with it visibility is the more accurate rule (singular patch).
+            if method.crack_rule == "visibility" and method.enrichment != "radial":
                 raise ValueError(
                     f"enrichment={method.enrichment!r} with crack_rule='visibility' is not "
                     "supported: visibility makes the shape functions jump along the rays from "
@@ -206,7 +208,8 @@ def approximation(scene: Scene, method: EFG, nodes: NodeCloud,
                     "those jumps act as extra cracks at the tip (extrinsic K_I 0.92, 0.39, -0.03 "
                     "on 9, 17, 25 node grids of the singular patch, docs/theory.md). Use "
                     "crack_rule='diffraction' (seed 003 uses it with enrichment), "
-                    "'transparency' or 'see_through'.")
+                    "'transparency' or 'see_through'; of the enrichments only 'radial' works "
+                    "with visibility.")
             if method.crack_rule == "see_through" and method.enrichment in ("radial", "full"):
                 raise ValueError(
                     f"enrichment={method.enrichment!r} with crack_rule='see_through' is not "

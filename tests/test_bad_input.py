@@ -150,14 +150,17 @@ def test_global_extrinsic_fields_need_a_single_tip_crack():
         solve(scene, EFG(spacing=0.2, enrichment="extrinsic_mls"))
 
 
-def test_visibility_with_enrichment_is_refused():
+@pytest.mark.parametrize("enrichment", ["full", "extrinsic_mls", "pu"])
+def test_visibility_with_enrichment_is_refused(enrichment):
     from efgkit import Crack
 
     scene = Scene(Domain.rectangle(-1, -1, 1, 1), Elastic(1.0, 0.3),
                   supports=(Support("bottom", ux=0.0, uy=0.0),),
                   cracks=(Crack([[-1.0, 0.0], [0.0, 0.0]], (False, True)),))
-    with pytest.raises(ValueError, match="with crack_rule='visibility' is not supported"):
-        solve(scene, EFG(spacing=0.25, enrichment="pu", crack_rule="visibility"))
+    extra = {"d_max": 3.0} if enrichment == "full" else {}
+    with pytest.raises(ValueError, match=f"enrichment='{enrichment}' with crack_rule='visibility' is "
+                                         "not supported.*only 'radial' works with visibility"):
+        solve(scene, EFG(spacing=0.25, enrichment=enrichment, crack_rule="visibility", **extra))
 
 
 def test_enrichment_without_cracks_is_refused():

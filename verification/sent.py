@@ -11,11 +11,12 @@ Units N, mm, MPa: forces per mm of thickness, J in N/mm (= kJ/m^2; seed: J/m^2 /
   integral (Wendland C2 q) at the element quadrature points, the energy release rate
   -dU/da at fixed grips from remeshed specimens, CMOD, reactions.
 * EFG at n = 20, 40, 80, 160 nodes across W (spacing W / n), variants: linear basis,
-  linear + tip rosette, intrinsic radial and full enrichment, extrinsic MLS and PU
-  enrichment; the grips by Nitsche's method (bc="variational"), SuperLU or, above 20k
-  unknowns, CG with the auxiliary-space preconditioner. J at the quadrature points and
-  point-wise at the nodes (Voronoi volumes, seed 001 Eq. 8), with the seed's cubic-spline
-  (Eq. 10) and Wendland C2 (Eq. 13) q-functions, on the seed's domain radii (Tables 4, 5).
+  linear + tip rosette, intrinsic radial (visibility rule: the sqrt(r) basis needs no
+  smoothing, seed 003 Sect. 5.3.2) and full enrichment, extrinsic MLS and PU enrichment;
+  the grips by Nitsche's method (bc="variational"), SuperLU or, above 20k unknowns, CG
+  with the auxiliary-space preconditioner. J at the quadrature points and point-wise at
+  the nodes (Voronoi volumes, seed 001 Eq. 8), with the seed's cubic-spline (Eq. 10) and
+  Wendland C2 (Eq. 13) q-functions, on the seed's domain radii (Tables 4, 5).
 * Which J is right (Abaqus 6.786 N/mm, seed 001 Table 5, or ~6.871): grips, plane,
   half model, energy release, modulus (see ``markdown``).
 """
@@ -65,7 +66,7 @@ SEED_T5 = {  # Table 5: Abaqus J (focused F, not focused NF) against contour rad
 VARIANTS = {  # EFG options beyond spacing and bc="variational"
     "linear": lambda h: {},
     "linear + rosette": lambda h: {"rosette": Rosette(h)},
-    "radial": lambda h: {"enrichment": "radial"},
+    "radial": lambda h: {"enrichment": "radial", "crack_rule": "visibility"},  # seed 003 5.3.2
     "full": lambda h: {"enrichment": "full", "d_max": 3.0},
     "extrinsic_mls": lambda h: {"enrichment": "extrinsic_mls"},
     "pu": lambda h: {"enrichment": "pu"},
