@@ -45,11 +45,12 @@ SEED = {"linear": ((26.90, 3.43), (32.51, 4.33)), "extrinsic_mls": ((34.43, 4.58
         "full": ((32.24, 4.21), (33.87, 4.54)), "radial": ((31.86, 4.20), (33.01, 4.59))}
 # Settings per variant: those of singular_patch (seed 003's default support d_max = 2.5,
 # Sect. 2; diffraction lambda = 1 with the extrinsic enrichments; visibility with sqrt(r),
-# Sect. 5.3.2), the intrinsic disc scaled by the crack length. The full basis as the seed's
-# Table 1 values come out with it: seed 003's default Gaussian weight (Eq. 1a, alpha =
-# d_max / 4, Sect. 2) on supports enlarged to d_max = 3 for the 7-term moment matrix, and the
-# basis at every node ("it must be used at all nodes", Sect. 5.3.1): (33.87, 4.54) on 11 x 29
-# as in Table 1 (not on 5 x 11). singular_patch's quartic weight on a ramped disc gives 33.30.
+# Sect. 5.3.2), the intrinsic disc scaled by the crack length. The full basis with the
+# settings under which it gives the seed's Table 1 values on 11 x 29 (33.87, 4.54; not those
+# on 5 x 11): seed 003's default Gaussian weight (Eq. 1a, alpha = d_max / 4, Sect. 2) on
+# supports enlarged to d_max = 3 for the 7-term moment matrix, and the basis at every node
+# ("it must be used at all nodes", Sect. 5.3.1). singular_patch's quartic weight on a ramped
+# disc gives 33.30 (studies).
 D_MAX = 2.5
 INTRINSIC_DISC = dict(enrich_radius=0.9 * A, ramp_inner=0.6 * A)  # r2, r1 of Eq. (54)
 WHOLE_PLATE = dict(enrich_radius=20.0, ramp_inner=19.0)  # r1 beyond the farthest corner (8.7)
