@@ -133,8 +133,9 @@ class EFG:
     crack_rule : {"visibility", "diffraction", "transparency", "see_through"}
         How supports see cracks (:mod:`efgkit.approx.crack_rules`). Enrichment
         refuses visibility, except the sqrt(r) basis (``enrichment="radial"``),
-        which needs no smoothing and is more accurate with it (seed 003
-        Sect. 5.3.2; verification ``singular_patch``).
+        which needs no smoothing (seed 003 Sect. 5.3.2) and is more accurate
+        with it on grid-aligned cracks, less on inclined ones (verification
+        ``singular_patch``, ``inclined``).
     rule_power : float
         lambda of the diffraction (Eq. 29) or transparency (Eq. 32, >= 2) rule.
     hole_rule : {"see_through", "visibility", "diffraction"}
