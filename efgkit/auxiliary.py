@@ -150,8 +150,7 @@ def _vcycle(levels, coarse, b: np.ndarray, i: int = 0) -> np.ndarray:
 
 class _PseudoInverse:
     def __init__(self, A):
-        self.pinv = np.linalg.pinv(np.asarray(A.toarray() if hasattr(A, "toarray") else A),
-                                   hermitian=True)
+        self.pinv = np.linalg.pinv(A.toarray(), hermitian=True)  # pyamg levels are sparse
 
     def solve(self, b):
         return self.pinv @ b

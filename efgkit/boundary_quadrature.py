@@ -18,6 +18,27 @@ from .quadrature import Points, _check_int, _check_length, gauss_legendre
 __all__ = ["boundary_points", "edge_rule"]
 
 
+def break_parameters(edge, breaks: np.ndarray | None) -> np.ndarray:
+    """Edge parameters (0 < s < 1) of the points ``breaks (b, 2)`` that lie on ``edge``
+    (within 1e-9 of its length): crack mouths, where pieces and multiplier knots split."""
+    if breaks is None or len(breaks) == 0:
+        return np.zeros(0)
+    b = np.asarray(breaks, dtype=float).reshape(-1, 2)
+    s = edge.parameter(b)
+    on_edge = np.hypot(*(edge.at(s)[0] - b).T) <= 1e-9 * max(edge.length, 1e-300)
+    return s[on_edge & (s > 1e-9) & (s < 1 - 1e-9)]
+
+
+def merge_knots(knots: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """The increasing knots ``0 .. 1`` with the parameters ``s`` added (closer than 1e-9 merged)."""
+    if len(s) == 0:
+        return knots
+    knots = np.unique(np.concatenate([knots, s]))
+    knots = knots[np.append(True, np.diff(knots) > 1e-9)]
+    knots[-1] = 1.0
+    return knots
+
+
 def edge_rule(edge, n_segments, order: int, breaks: np.ndarray | None = None):
     """Gauss rule on ``n_segments`` equal-parameter pieces of ``edge`` (or on the pieces
     between the parameters ``n_segments``, an increasing array from 0 to 1), further
@@ -36,14 +57,7 @@ def edge_rule(edge, n_segments, order: int, breaks: np.ndarray | None = None):
     """
     knots = (np.linspace(0.0, 1.0, n_segments + 1) if np.ndim(n_segments) == 0
              else np.asarray(n_segments, dtype=float))
-    if breaks is not None and len(breaks):
-        b = np.asarray(breaks, dtype=float).reshape(-1, 2)
-        s = edge.parameter(b)
-        on_edge = np.hypot(*(edge.at(s)[0] - b).T) <= 1e-9 * max(edge.length, 1e-300)
-        s = s[on_edge & (s > 1e-9) & (s < 1 - 1e-9)]
-        knots = np.unique(np.concatenate([knots, s]))
-        knots = knots[np.append(True, np.diff(knots) > 1e-9)]
-        knots[-1] = 1.0
+    knots = merge_knots(knots, break_parameters(edge, breaks))
     xi, gw = gauss_legendre(order)
     lo, hi = knots[:-1], knots[1:]
     seg = np.repeat(np.arange(len(lo)), order)

@@ -222,10 +222,18 @@ class Crack:
         c = (b[0] - a[0]) * (x[:, 1] - a[1]) - (b[1] - a[1]) * (x[:, 0] - a[0])
         return np.where(c >= 0, 1, -1)
 
-    def distance(self, x: np.ndarray) -> np.ndarray:
-        """Distance of points ``x (n, 2)`` to the crack polyline, shape (n,)."""
+    def project(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Nearest points of the polyline to ``x (n, 2)``: segment index (n,), parameter
+        t in [0, 1] along it (n,) and distance (n,)."""
         x = np.atleast_2d(np.asarray(x, dtype=float))
         s = self.segments
         a, ab = s[None, :, 0], s[None, :, 1] - s[None, :, 0]
         t = np.clip(np.sum((x[:, None] - a) * ab, -1) / np.sum(ab * ab, -1), 0.0, 1.0)
-        return np.linalg.norm(x[:, None] - a - t[..., None] * ab, axis=-1).min(axis=1)
+        d = np.linalg.norm(x[:, None] - a - t[..., None] * ab, axis=-1)
+        k = np.argmin(d, axis=1)
+        rows = np.arange(len(x))
+        return k, t[rows, k], d[rows, k]
+
+    def distance(self, x: np.ndarray) -> np.ndarray:
+        """Distance of points ``x (n, 2)`` to the crack polyline, shape (n,)."""
+        return self.project(x)[2]

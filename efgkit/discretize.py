@@ -16,7 +16,7 @@ import numpy as np
 
 from .approx.approximation import Approximation
 from .approx.crack_rules import CrackLines, CrackRule
-from .approx.enrichment import Enrichment
+from .approx.enrichment import INTRINSIC, Enrichment
 from .approx.hole_rules import Holes
 from .approx.shape import Shape
 from .approx.tip_functions import TipGeometry
@@ -172,7 +172,7 @@ def tip_zones(scene: Scene, method: EFG) -> tuple:
 
     h = method.cell_size or method.spacing
     radius = 2.0 * h
-    if method.enrichment in ("radial", "full"):
+    if method.enrichment in INTRINSIC:
         radius = max(radius, method.ramp_outer)
     return tuple(Zone(tuple(t.x), radius, h / 2) for t in scene.tips)
 
@@ -210,7 +210,7 @@ def approximation(scene: Scene, method: EFG, nodes: NodeCloud,
                     "crack_rule='diffraction' (seed 003 uses it with enrichment), "
                     "'transparency' or 'see_through'; of the enrichments only 'radial' works "
                     "with visibility.")
-            if method.crack_rule == "see_through" and method.enrichment in ("radial", "full"):
+            if method.crack_rule == "see_through" and method.enrichment in INTRINSIC:
                 raise ValueError(
                     f"enrichment={method.enrichment!r} with crack_rule='see_through' is not "
                     "supported: see-through lets the nodes whose supports hold the tip see across "

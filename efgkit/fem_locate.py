@@ -62,16 +62,25 @@ class PointLocator:
         """Element node coordinates of the geometric map, shape (2, n_geometric_nodes, n_elements)."""
         return self.skmesh.doflocs[:, self.skmesh.dofs.element_dofs]
 
+    def _map(self, G: np.ndarray, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Mapped points (2, n) and Jacobians ``J[d, e, n] = dx_d / dX_e`` (2, 2, n) of
+        reference points ``X (2, n)`` in elements with node coordinates ``G (2, g, n)``."""
+        gel = self.skmesh.elem()
+        ev = [gel.lbasis(X, i) for i in range(G.shape[1])]
+        return (np.einsum("dgn,gn->dn", G, np.array([e[0] for e in ev])),
+                np.einsum("dgn,gen->den", G, np.array([e[1] for e in ev])))
+
+    def jacobian(self, elems: np.ndarray, X: np.ndarray) -> np.ndarray:
+        """Jacobians (2, 2, n) of the element maps at reference points ``X (2, n)``."""
+        return self._map(self.geometry[:, :, elems], X)[1]
+
     def inverse(self, elems: np.ndarray, x: np.ndarray) -> np.ndarray:
         """Reference coordinates (2, n) of points ``x (n, 2)`` in elements ``elems (n,)``."""
         G = self.geometry[:, :, elems]
-        gel = self.skmesh.elem()
         J0 = np.stack([G[:, 1] - G[:, 0], G[:, 2] - G[:, 0]], axis=1)
         X = _solve2(J0, x.T - G[:, 0])
         for _ in range(30):
-            ev = [gel.lbasis(X, i) for i in range(G.shape[1])]
-            F = np.einsum("dgn,gn->dn", G, np.array([e[0] for e in ev]))
-            J = np.einsum("dgn,gen->den", G, np.array([e[1] for e in ev]))
+            F, J = self._map(G, X)
             dX = _solve2(J, x.T - F)
             X = X + dX
             if np.abs(dX).max(initial=0.0) < 1e-14:
@@ -82,22 +91,12 @@ class PointLocator:
         from scipy.spatial import cKDTree
 
         dom = self.scene.domain
-        x = np.atleast_2d(np.asarray(x, dtype=float)).copy()
-        if x.ndim != 2 or x.shape[1] != 2 or not np.all(np.isfinite(x)):
-            raise ValueError(f"x must be finite points of shape (n, 2), got shape {x.shape}")
-        off = ~dom.contains(x, tol=1e-9 * dom.size)
-        if off.any():
-            k = int(np.argmax(off))
-            raise ValueError(f"{int(off.sum())} point(s) lie outside the body, e.g. x[{k}] = "
-                             f"{x[k].tolist()}: fields are defined only in the material")
+        x = dom.field_points(x).copy()
         for c in self.scene.cracks:  # points on a crack line go to its left face
-            on = c.distance(x) <= 1e-12 * dom.size
+            k, _, d = c.project(x)
+            on = d <= 1e-12 * dom.size
             if on.any():
-                a, ab = c.segments[:, 0], c.segments[:, 1] - c.segments[:, 0]
-                p = x[on]
-                s = np.clip(np.einsum("nkd,kd->nk", p[:, None] - a, ab) / (ab * ab).sum(1), 0, 1)
-                d = np.linalg.norm(p[:, None] - a - s[..., None] * ab, axis=-1)
-                t = ab[np.argmin(d, axis=1)]
+                t = c.segments[k[on], 1] - c.segments[k[on], 0]
                 t /= np.linalg.norm(t, axis=1)[:, None]
                 x[on] += 1e-10 * dom.size * np.column_stack([-t[:, 1], t[:, 0]])
         e = np.asarray(self._finder(x[:, 0], x[:, 1]))

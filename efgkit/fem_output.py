@@ -13,14 +13,15 @@ from pathlib import Path
 
 import numpy as np
 
+from .material import strain_from_gradient
+
 __all__ = ["nodal_stress", "plot_stress", "record", "write", "write_vtu"]
 
 
 def _stress_at(sol, X) -> np.ndarray:
     """Stress (n_elements, 3) at one reference point ``X (2, n_elements)`` of every element."""
     g = sol._at(np.arange(sol.mesh.n_elements), X, grad=True)
-    eps = np.column_stack([g[:, 0, 0], g[:, 1, 1], g[:, 0, 1] + g[:, 1, 0]])
-    return eps @ sol.scene.material.D.T
+    return strain_from_gradient(g) @ sol.scene.material.D.T
 
 
 def nodal_stress(sol) -> np.ndarray:
@@ -146,9 +147,8 @@ def write(sol, out, name: str | None = None, radii=None) -> dict:
     name = name or (re.sub(r"[^A-Za-z0-9_.-]+", "_", sol.scene.name).strip("._") or "scene")
     rec = record(sol, radii)
     paths = [write_vtu(sol, out / f"{name}.vtu")]
-    for suffix, draw in (("mesh", sol.plot_mesh), ("stress", plot_stress)):
-        fig = draw() if suffix == "mesh" else draw(sol)
-        paths.append(write_figure(fig, out / f"{name}_{suffix}.png"))
+    for suffix, draw in (("mesh", sol.plot_mesh), ("stress", sol.plot_stress)):
+        paths.append(write_figure(draw(), out / f"{name}_{suffix}.png"))
     rec["outputs"] = [str(p) for p in paths + [out / f"{name}.json"]]
     write_json(rec, out / f"{name}.json")
     return rec

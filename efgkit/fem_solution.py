@@ -19,6 +19,7 @@ import numpy as np
 
 from .analytic import field_errors
 from .fem_locate import PointLocator
+from .material import strain_from_gradient
 
 __all__ = ["FEMSolution"]
 
@@ -95,9 +96,7 @@ class FEMSolution:
         U = np.stack([self.u[2 * sd], self.u[2 * sd + 1]])  # (2, n_local, n)
         if not grad:
             return np.einsum("cin,in->nc", U, np.array([e[0] for e in ev]))
-        G = self._locator.geometry[:, :, elems]
-        gel = self.basis.mesh.elem()
-        J = np.einsum("dgn,gen->den", G, np.array([gel.lbasis(X, i)[1] for i in range(G.shape[1])]))
+        J = self._locator.jacobian(elems, X)
         dref = np.array([e[1] for e in ev])  # (n_local, 2, n)
         det = J[0, 0] * J[1, 1] - J[0, 1] * J[1, 0]
         if np.any(det == 0):
@@ -123,8 +122,7 @@ class FEMSolution:
 
     def strain(self, x=None) -> np.ndarray:
         """Strain (xx, yy, xy engineering) at points ``x (n, 2)``, shape (n, 3)."""
-        g = self._grad(x)
-        return np.column_stack([g[:, 0, 0], g[:, 1, 1], g[:, 0, 1] + g[:, 1, 0]])
+        return strain_from_gradient(self._grad(x))
 
     def stress(self, x=None) -> np.ndarray:
         """Stress (xx, yy, xy) at points ``x (n, 2)``, shape (n, 3)."""
@@ -241,7 +239,7 @@ class FEMSolution:
             return None
         fb = FacetBasis(sk, self.basis.elem, facets=f, intorder=2 * self.fem.order + 2)
         n = np.asarray(fb.normals).reshape(2, -1).T
-        up = np.array([-np.sin(tip.angle), np.cos(tip.angle)])  # e2 of the tip frame
+        up = tip.rotation[1]  # e2 of the tip frame
         return FaceLoad(np.asarray(fb.global_coordinates()).reshape(2, -1).T, fb.dx.ravel(), -p * n,
                         fb.interpolate(self.u).grad.reshape(2, 2, -1).transpose(2, 0, 1),
                         np.where(n @ up < 0, 1.0, -1.0))
@@ -265,8 +263,8 @@ class FEMSolution:
         eb = Basis(self.basis.mesh, self.basis.elem, intorder=2 * self.fem.order + 2)
         q = eb.interpolate(self.u)
         x, w = np.asarray(eb.global_coordinates()).reshape(2, -1).T, eb.dx.ravel()
-        u, g = np.asarray(q).reshape(2, -1).T, q.grad.reshape(2, 2, -1)
-        eps = np.column_stack([g[0, 0], g[1, 1], g[0, 1] + g[1, 0]])
+        u, g = np.asarray(q).reshape(2, -1).T, q.grad.reshape(2, 2, -1).transpose(2, 0, 1)
+        eps = strain_from_gradient(g)
         return field_errors(exact, self.scene, x, w, u, eps)
 
     def cmod(self, crack) -> float:

@@ -374,3 +374,17 @@ class Domain:
         if tol > 0:
             inside |= self.distance_to_boundary(x) <= tol
         return inside
+
+    def field_points(self, x) -> np.ndarray:
+        """``x`` as finite points (n, 2) of the material (within 1e-9 of the domain size of it),
+        where solution fields are evaluated; a ValueError names the first one outside."""
+        x = np.atleast_2d(np.asarray(x, dtype=float))
+        if x.ndim != 2 or x.shape[1] != 2 or not np.all(np.isfinite(x)):
+            raise ValueError(f"x must be finite points of shape (n, 2), got shape {x.shape}")
+        outside = ~self.contains(x, tol=1e-9 * self.size)
+        if outside.any():
+            k = int(np.argmax(outside))
+            raise ValueError(f"{int(outside.sum())} point(s) lie outside the body, e.g. x[{k}] = "
+                             f"{x[k].tolist()}: fields are defined only in the material (an "
+                             "approximation there would be an extrapolation)")
+        return x

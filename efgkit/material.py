@@ -8,9 +8,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Elastic"]
+__all__ = ["Elastic", "strain_from_gradient"]
 
 _PLANES = ("strain", "stress")
+
+
+def strain_from_gradient(grad: np.ndarray) -> np.ndarray:
+    """Small strain in Voigt form (xx, yy, xy engineering), shape (n, 3), from displacement
+    gradients ``grad[n, i, j] = du_i / dx_j`` of shape (n, 2, 2)."""
+    return np.column_stack([grad[:, 0, 0], grad[:, 1, 1], grad[:, 0, 1] + grad[:, 1, 0]])
 
 
 def _finite_positive(name: str, value, allow_none: bool = False) -> None:

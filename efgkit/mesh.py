@@ -325,13 +325,8 @@ def mesh_scene(scene, h: float, tip_h: float | None = None, grading: float = 1.2
     dirs = np.zeros((len(cf), 2))
     for ci, c in enumerate(cracks):  # orient crack facets along their crack segment
         sel = cidx == ci
-        mid = 0.5 * (x[cf[sel, 0]] + x[cf[sel, 1]])
-        seg = c.segments
-        ab = seg[:, 1] - seg[:, 0]
-        s = np.clip(np.einsum("nkd,kd->nk", mid[:, None] - seg[None, :, 0], ab) / (ab * ab).sum(1),
-                    0, 1)
-        dist = np.linalg.norm(mid[:, None] - seg[None, :, 0] - s[..., None] * ab, axis=-1)
-        dirs[sel] = ab[np.argmin(dist, axis=1)]
+        k = c.project(0.5 * (x[cf[sel, 0]] + x[cf[sel, 1]]))[0]
+        dirs[sel] = c.segments[k, 1] - c.segments[k, 0]
     flip = np.einsum("nd,nd->n", x[cf[:, 1]] - x[cf[:, 0]], dirs) < 0
     cf[flip] = cf[flip][:, ::-1]
     tip_nodes = tuple(int(crack_ids[[c.name for c in cracks].index(tp.crack)][0 if tp.end == 0 else -1])
@@ -367,13 +362,9 @@ def mesh_scene(scene, h: float, tip_h: float | None = None, grading: float = 1.2
 
 def _arclength(crack, p):
     """Arc-length parameter along the crack polyline of points ``p (n, 2)`` on it."""
-    seg = crack.segments
-    ab = seg[:, 1] - seg[:, 0]
-    ln = np.linalg.norm(ab, axis=1)
-    s = np.clip(np.einsum("nkd,kd->nk", p[:, None] - seg[None, :, 0], ab) / ln**2, 0, 1)
-    d = np.linalg.norm(p[:, None] - seg[None, :, 0] - s[..., None] * ab, axis=-1)
-    k = np.argmin(d, axis=1)
-    return np.concatenate([[0.0], np.cumsum(ln)])[k] + s[np.arange(len(p)), k] * ln[k]
+    k, t, _ = crack.project(p)
+    ln = np.linalg.norm(crack.segments[:, 1] - crack.segments[:, 0], axis=1)
+    return np.concatenate([[0.0], np.cumsum(ln)])[k] + t * ln[k]
 
 
 def plot_mesh(mesh: TriMesh, ax=None):

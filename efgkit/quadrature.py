@@ -348,7 +348,7 @@ def cell_points(domain: Domain, cell_size: float, order: int, zones=(),
     for z in zones:
         inz = np.sum((centre - np.asarray(z.centre)) ** 2, axis=1) <= z.radius**2
         level[inz] = np.maximum(level[inz], math.ceil(cell_size / z.spacing - 1e-9))
-    seg = domain.boundary_segments()
+    seg = outline = domain.boundary_segments()
     if cracks:  # each crack segment as a slit: travelled both ways
         cs = np.concatenate([c.segments for c in cracks])
         seg = np.concatenate([seg, cs, cs[:, ::-1]])
@@ -362,7 +362,7 @@ def cell_points(domain: Domain, cell_size: float, order: int, zones=(),
         size = cell_size / max(k, 1)
         if tips:
             sel, fans = tip_cells(sel, origin, size, tips, cracks, tip_rays,
-                                   tip_order or refined_order, domain.boundary_segments())
+                                   tip_order or refined_order, outline)
             for x, w in fans:
                 parts.append((x, w, np.full(len(x), offset)))
                 offset += 1

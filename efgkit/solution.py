@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .discretize import Discretization
+from .material import strain_from_gradient
 
 __all__ = ["Solution"]
 
@@ -50,17 +51,7 @@ class Solution:
     def _fields(self, x, derivatives):
         if x is None:
             return self.disc.shape
-        x = np.atleast_2d(np.asarray(x, dtype=float))
-        if x.ndim != 2 or x.shape[1] != 2 or not np.all(np.isfinite(x)):
-            raise ValueError(f"x must be finite points of shape (n, 2), got shape {x.shape}")
-        dom = self.scene.domain
-        outside = ~dom.contains(x, tol=1e-9 * dom.size)
-        if outside.any():
-            k = int(np.argmax(outside))
-            raise ValueError(
-                f"{int(outside.sum())} point(s) lie outside the body, e.g. x[{k}] = "
-                f"{x[k].tolist()}: fields are defined only in the material (MLS would extrapolate)"
-            )
+        x = self.scene.domain.field_points(x)
         return self.disc.shape_at(x, derivatives=derivatives)
 
     def displacement(self, x=None) -> np.ndarray:
@@ -107,8 +98,7 @@ class Solution:
 
         x, w = self.disc.points.x, self.disc.points.w
         grad = self.gradient()
-        eps = np.column_stack([grad[:, 0, 0], grad[:, 1, 1], grad[:, 0, 1] + grad[:, 1, 0]])
-        stress = eps @ self.scene.material.D.T  # as self.stress(), without a second pass
+        stress = strain_from_gradient(grad) @ self.scene.material.D.T  # no second pass
         enr = self.disc.approx.enrichment
         out = []
         for k, tip in enumerate(self.scene.tips):
@@ -136,7 +126,7 @@ class Solution:
 
         h = self.tip_spacing(tip)
         r = h * np.arange(1.0, 7.0) if r is None else np.asarray(r, dtype=float)
-        up = np.array([-np.sin(tip.angle), np.cos(tip.angle)])  # the upper face's side (e2)
+        up = tip.rotation[1]  # e2 of the tip frame: the upper face's side
         face = {s: self.displacement(ray_points(tip, r, np.pi) + s * 1e-7 * h * up)
                 for s in (1.0, -1.0)}
         return {"stress_0": near_tip_sif(tip, r, self.stress(ray_points(tip, r, 0.0)), 0.0),

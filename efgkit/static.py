@@ -12,7 +12,7 @@ import time
 import numpy as np
 
 from .assemble import load_vector, stiffness
-from .boundary_quadrature import boundary_points, edge_rule
+from .boundary_quadrature import boundary_points, break_parameters, edge_rule, merge_knots
 from .constraints import (
     Dirichlet,
     eliminate,
@@ -107,8 +107,12 @@ def essential_conditions(disc: Discretization, derivatives: bool) -> Dirichlet:
     for sup in scene.supports:
         selected = 0
         for e in support_edges(scene.domain, sup.edge):
-            hat = np.linspace(0.0, 1.0, boundary_segments_for(e, disc.nodes, m.spacing) + 1)
-            x, w, nrm, s = edge_rule(e, hat, max(m.order, 2), mouths)
+            # A crack mouth on the edge is a knot where the multiplier may jump (the traction
+            # on the two sides of a crack differs): it gets one hat node per side.
+            at_mouth = break_parameters(e, mouths)
+            hat = merge_knots(np.linspace(0.0, 1.0, boundary_segments_for(e, disc.nodes, m.spacing)
+                                          + 1), at_mouth)
+            x, w, nrm, s = edge_rule(e, hat, max(m.order, 2))
             keep = np.ones(len(x), bool) if isinstance(sup.edge, str) else np.asarray(
                 sup.edge(x), bool)
             selected += int(keep.sum())
@@ -118,12 +122,6 @@ def essential_conditions(disc: Discretization, derivatives: bool) -> Dirichlet:
                 if v is not None:
                     fixed[:, c] = keep
                     value[:, c] = evaluate_component(v, x, c, scene.material)
-            # A crack mouth on the edge is a knot where the multiplier may jump (the traction
-            # on the two sides of a crack differs): it gets one hat node per side.
-            at_mouth = _mouth_parameters(e, mouths)
-            hat = np.unique(np.concatenate([hat, at_mouth]))
-            hat = hat[np.append(True, np.diff(hat) > 1e-9)]
-            hat[-1] = 1.0
             nhat = len(hat) - 1
             seg = np.clip(np.searchsorted(hat, s, side="right") - 1, 0, nhat - 1)
             comps = {c for c, v in enumerate((sup.ux, sup.uy)) if v is not None}
@@ -162,15 +160,6 @@ def essential_conditions(disc: Discretization, derivatives: bool) -> Dirichlet:
     x = cat[0]
     return Dirichlet(x, cat[1], cat[2], disc.shape_at(x, derivatives), cat[3], cat[4], cat[5],
                      cat[6], cat[7])
-
-
-def _mouth_parameters(edge, mouths: np.ndarray) -> np.ndarray:
-    """Edge parameters (0 < s < 1) of the crack mouths lying on ``edge``."""
-    if len(mouths) == 0:
-        return np.zeros(0)
-    s = edge.parameter(mouths)
-    on = np.hypot(*(edge.at(s)[0] - mouths).T) <= 1e-9 * max(edge.length, 1e-300)
-    return s[on & (s > 1e-9) & (s < 1 - 1e-9)]
 
 
 def _eliminated_dofs(disc: Discretization):

@@ -25,7 +25,7 @@ import numpy as np
 from ..nodes import NodeCloud
 from ..search import BoxGrid, Neighbours, find_neighbours
 from .crack_rules import CrackLines, CrackRule, crack_distances, padded_weights, pair_arrays
-from .enrichment import Enrichment, blend_intrinsic, extra_columns
+from .enrichment import INTRINSIC, Enrichment, blend_intrinsic, extra_columns
 from .hole_rules import Holes, hole_distances
 from .mls import mls_shape
 from .shape import Shape
@@ -172,7 +172,7 @@ class Approximation:
                     v[rows] = r
         nb = Neighbours(nb.idx, mask)
         enr = self.enrichment
-        if enr is not None and enr.kind in ("radial", "full"):
+        if enr is not None and enr.kind in INTRINSIC:
             taken = np.zeros(len(x), bool)  # each point is enriched by one tip
             for t in range(len(enr.tips)):
                 near = enr.in_ramp(x, t)

@@ -39,7 +39,7 @@ from .tip_functions import TipGeometry, branch_functions, ramp, tip_coordinates,
 
 __all__ = ["Enrichment", "blend_intrinsic", "extra_columns"]
 
-_INTRINSIC = ("radial", "full")
+INTRINSIC = ("radial", "full")  # enrichments that widen the MLS basis (no extra unknowns)
 
 
 @dataclass(frozen=True, eq=False)
@@ -89,7 +89,7 @@ class Enrichment:
     def build(cls, kind, tips, nodes, material, r1, r2, ramp_kind, pu_radius) -> Enrichment:
         """The enrichment of ``kind`` for ``tips`` (TipGeometry) on ``nodes``."""
         tips = tuple(tips)
-        if kind in _INTRINSIC or (kind == "extrinsic_mls" and np.isfinite(r2)):
+        if kind in INTRINSIC or (kind == "extrinsic_mls" and np.isfinite(r2)):
             xs = np.array([g.tip.x for g in tips])
             for i in range(len(tips)):
                 for j in range(i + 1, len(tips)):

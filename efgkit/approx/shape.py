@@ -15,6 +15,7 @@ from functools import cached_property
 import numpy as np
 from scipy.sparse import csr_array
 
+from ..material import strain_from_gradient
 from ..search import Neighbours
 
 __all__ = ["Extra", "Shape"]
@@ -171,5 +172,4 @@ class Shape:
 
     def strain(self, coeffs) -> np.ndarray:
         """Strain (xx, yy, xy engineering) at the points, shape (n_points, 3)."""
-        g = self.gradient(coeffs)
-        return np.column_stack([g[:, 0, 0], g[:, 1, 1], g[:, 0, 1] + g[:, 1, 0]])
+        return strain_from_gradient(self.gradient(coeffs))

@@ -54,7 +54,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..crack import Tip
-from ..material import Elastic
+from ..material import Elastic, strain_from_gradient
 from .fields import (
     point_force_gradient,
     point_force_stress,
@@ -366,7 +366,8 @@ def domain_integrands(x, w, stress, grad_u, tip: Tip, material: Elastic, r_max: 
             i = int(sel[np.argmax(bad)])
             raise ValueError(f"{name} at point {i} {x[i].tolist()} (r = {r[i]:.3g} from tip {tip.id}) "
                              "is not finite; evaluate fields away from singular points")
-    s = _tensor(rotate_voigt(stress[sel], -tip.angle))
+    sv = rotate_voigt(stress[sel], -tip.angle)
+    s = _tensor(sv)
     g = rotate_gradient(grad_u[sel], -tip.angle)
     ws = w[sel]
     c = np.empty((4, len(sel), 2))
@@ -383,10 +384,9 @@ def domain_integrands(x, w, stress, grad_u, tip: Tip, material: Elastic, r_max: 
     c[1:, :, 0] -= np.einsum("mij,kmij->km", s, ga)
     c *= ws[:, None]
     # consistency of stress and grad_u through the material, weighted like the integrand
-    eps = np.column_stack([g[:, 0, 0], g[:, 1, 1], g[:, 0, 1] + g[:, 1, 0]])
-    sv = rotate_voigt(stress[sel], -tip.angle)
     norms = np.abs(ws) * np.stack([np.linalg.norm(sv, axis=1),
-                                   np.linalg.norm(sv - eps @ material.D.T, axis=1)])
+                                   np.linalg.norm(sv - strain_from_gradient(g) @ material.D.T,
+                                                  axis=1)])
     return Integrands(tip, material, float(r_max), x[sel], r[sel], c, norms)
 
 
