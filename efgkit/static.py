@@ -52,8 +52,12 @@ def loads(disc: Discretization) -> np.ndarray:
     order = max(m.order, 2)
     for tr in scene.tractions:
         pts = boundary_points(scene.domain, tr.edge, order, m.spacing, crack_mouths(scene))
-        if pts.n == 0:
-            continue
+        if pts.n == 0:  # a named edge always has points: a callable selected none
+            raise ValueError(
+                f"traction {tr.edge!r} selects none of the boundary quadrature points, so its "
+                "load would be lost: EFG applies tractions as integrals along boundary lines, "
+                "and a callable that picks isolated points (a point load) selects nothing. "
+                "Select a stretch of boundary and give the traction per unit length there.")
         t = evaluate_vector(tr.t, pts.x, pts.normal, scene.material)
         f += load_vector(disc.shape_at(pts.x, derivatives=False), pts.w, t)
     if scene.body_force is not None:

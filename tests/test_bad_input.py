@@ -176,3 +176,13 @@ def test_point_support_selecting_nothing_is_explained():
                             Support(lambda x: np.hypot(*(x - [0.0, 0.5]).T) < 1e-9, uy=0.0)))
     with pytest.raises(ValueError, match="selects none of the boundary quadrature points"):
         solve(scene, EFG(spacing=0.25, bc="lagrange"))
+
+
+def test_point_traction_selecting_nothing_is_refused():
+    # it used to be skipped: the load was lost without a word
+    scene = Scene(Domain.rectangle(0, 0, 1, 1), Elastic(1.0, 0.3),
+                  supports=(Support("left", ux=0.0, uy=0.0),),
+                  tractions=(Traction(lambda x: np.hypot(*(x - [1.0, 0.5]).T) < 1e-9, (1.0, 0.0)),))
+    with pytest.raises(ValueError, match=r"traction .* selects none of the boundary quadrature "
+                                         r"points, so its load would be lost"):
+        solve(scene, EFG(spacing=0.25))
