@@ -10,7 +10,9 @@ integrals. :func:`tip_polar`, :func:`rotate_vectors`, :func:`rotate_voigt` and
 
 Also here: the displacement gradient of the Williams fields and the point-force
 (Flamant) field at a crack tip (the auxiliary field of the T-stress interaction
-integral). The exact field of a Griffith crack is in :mod:`efgkit.fracture.griffith`.
+integral), and :func:`auxiliary_fields`, the three unit auxiliary fields the
+interaction integrals use. The exact field of a Griffith crack is in
+:mod:`efgkit.fracture.griffith`.
 """
 
 from __future__ import annotations
@@ -18,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = [
+    "auxiliary_fields",
     "point_force_displacement",
     "point_force_gradient",
     "point_force_stress",
@@ -25,6 +28,7 @@ __all__ = [
     "rotate_vectors",
     "rotate_voigt",
     "tip_polar",
+    "voigt_tensor",
     "williams_displacement",
     "williams_gradient",
     "williams_stress",
@@ -373,3 +377,23 @@ def point_force_gradient(r, theta, f: float, mu: float, kappa: float) -> np.ndar
     g[:, 1, 0] = k * ((kappa - 1) * s - 2 * c2 * s)
     g[:, 1, 1] = k * (2 * c2 * c - (kappa - 1) * c)
     return g
+
+
+def voigt_tensor(voigt: np.ndarray) -> np.ndarray:
+    """Voigt stresses (..., 3) -> symmetric tensors (..., 2, 2)."""
+    return np.stack([np.stack([voigt[..., 0], voigt[..., 2]], -1),
+                     np.stack([voigt[..., 2], voigt[..., 1]], -1)], -2)
+
+
+def auxiliary_fields(r, theta, material) -> tuple[np.ndarray, np.ndarray]:
+    """Stress tensors and displacement gradients, both (3, m, 2, 2), of the unit auxiliary
+    fields of the interaction integrals at tip-frame polar points ``(r, theta)`` (m,):
+    Williams mode I, mode II and the point force along x1 (:mod:`efgkit.fracture.integrals`)."""
+    mu, kappa = material.mu, material.kappa
+    s = np.stack([voigt_tensor(williams_stress(r, theta, 1.0, 0.0)),
+                  voigt_tensor(williams_stress(r, theta, 0.0, 1.0)),
+                  voigt_tensor(point_force_stress(r, theta, 1.0))])
+    g = np.stack([williams_gradient(r, theta, 1.0, 0.0, mu, kappa),
+                  williams_gradient(r, theta, 0.0, 1.0, mu, kappa),
+                  point_force_gradient(r, theta, 1.0, mu, kappa)])
+    return s, g

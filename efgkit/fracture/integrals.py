@@ -55,15 +55,7 @@ import numpy as np
 
 from ..crack import Tip
 from ..material import Elastic, strain_from_gradient
-from .fields import (
-    point_force_gradient,
-    point_force_stress,
-    rotate_gradient,
-    rotate_vectors,
-    rotate_voigt,
-    williams_gradient,
-    williams_stress,
-)
+from .fields import auxiliary_fields, rotate_gradient, rotate_vectors, rotate_voigt, voigt_tensor
 from .qfunctions import QFunction
 
 __all__ = ["SIF", "FaceLoad", "Integrands", "contract", "domain_integrals", "domain_integrands",
@@ -83,12 +75,6 @@ def _array(name: str, v, shape: tuple) -> np.ndarray:
         want = "(" + ", ".join("n" if s == -1 else str(s) for s in shape) + ")"
         raise ValueError(f"{name} must have shape {want}, got {a.shape}")
     return a
-
-
-def _tensor(voigt: np.ndarray) -> np.ndarray:
-    """Voigt stresses (..., 3) -> symmetric tensors (..., 2, 2)."""
-    return np.stack([np.stack([voigt[..., 0], voigt[..., 2]], -1),
-                     np.stack([voigt[..., 2], voigt[..., 1]], -1)], -2)
 
 
 @dataclass(frozen=True, eq=False)
@@ -195,19 +181,6 @@ def k_from_j(J: float, material: Elastic) -> float:
     return math.sqrt(material.E_prime * J)
 
 
-def _auxiliary(r, theta, material):
-    """Stress tensors and gradients (3, m, 2, 2) of the unit auxiliary fields:
-    Williams mode I, mode II and the point force along x1."""
-    mu, kappa = material.mu, material.kappa
-    s = np.stack([_tensor(williams_stress(r, theta, 1.0, 0.0)),
-                  _tensor(williams_stress(r, theta, 0.0, 1.0)),
-                  _tensor(point_force_stress(r, theta, 1.0))])
-    g = np.stack([williams_gradient(r, theta, 1.0, 0.0, mu, kappa),
-                  williams_gradient(r, theta, 0.0, 1.0, mu, kappa),
-                  point_force_gradient(r, theta, 1.0, mu, kappa)])
-    return s, g
-
-
 def _face_terms(faces: FaceLoad, tip: Tip, material: Elastic, q: QFunction):
     """J face term, interaction face terms (3,) and sigma_22^0 at the tip from the face loads."""
     Q = tip.rotation
@@ -230,7 +203,7 @@ def _face_terms(faces: FaceLoad, tip: Tip, material: Elastic, q: QFunction):
     J = -np.sum(w * np.einsum("mi,mi->m", t, g[:, :, 0]))
     ri, side = r[inside], faces.side[inside]
     ok = ri > _AT_TIP * q.r_out  # at the tip itself the auxiliary fields are singular
-    _, ga = _auxiliary(ri[ok], side[ok] * np.pi, material)
+    _, ga = auxiliary_fields(ri[ok], side[ok] * np.pi, material)
     I = -np.einsum("m,mi,kmi->k", w[ok], t[ok], ga[:, :, :, 0])
     # normal stress at the tip from the face pressure nearest to it, both faces averaged
     near = [np.flatnonzero(side == s_) for s_ in (1.0, -1.0)]
@@ -367,7 +340,7 @@ def domain_integrands(x, w, stress, grad_u, tip: Tip, material: Elastic, r_max: 
             raise ValueError(f"{name} at point {i} {x[i].tolist()} (r = {r[i]:.3g} from tip {tip.id}) "
                              "is not finite; evaluate fields away from singular points")
     sv = rotate_voigt(stress[sel], -tip.angle)
-    s = _tensor(sv)
+    s = voigt_tensor(sv)
     g = rotate_gradient(grad_u[sel], -tip.angle)
     ws = w[sel]
     c = np.empty((4, len(sel), 2))
@@ -379,7 +352,7 @@ def domain_integrands(x, w, stress, grad_u, tip: Tip, material: Elastic, r_max: 
     # theta = +pi) for a tip at the last vertex, lower (-0.0: -pi) at the first
     on_line = 0.0 if tip.end == 1 else -0.0
     x2 = np.where(np.abs(d[sel, 1]) <= 1e-12 * r_max, on_line, d[sel, 1])
-    sa, ga = _auxiliary(r[sel], np.arctan2(x2, d[sel, 0]), material)
+    sa, ga = auxiliary_fields(r[sel], np.arctan2(x2, d[sel, 0]), material)
     c[1:] = np.einsum("mij,kmi->kmj", s, ga[:, :, :, 0]) + np.einsum("kmij,mi->kmj", sa, g[:, :, 0])
     c[1:, :, 0] -= np.einsum("mij,kmij->km", s, ga)
     c *= ws[:, None]
