@@ -309,7 +309,7 @@ def markdown(record: dict) -> list[str]:
               ""]
     if m["defect_30deg"]:
         lines += ["**Regression study: cells cut by an inclined crack (a fixed efgkit defect).** "
-                  "`efgkit.quadrature._cut_triangles` sorts the lines of each vertical slab by "
+                  "`efgkit.cut_cells.cut_triangles` sorts the lines of each vertical slab by "
                   "the key `0.5 * (la + lb)`, with the `up` tie-break putting the two sides of a "
                   "crack slit in order; the two sides are the same segment travelled both ways, "
                   "evaluated from opposite ends, so their keys differed by rounding, the tie-break "
