@@ -202,14 +202,12 @@ class FEMSolution:
         >>> round(res.KI, 3), round(res.KII, 3), bool(res.spread < 1e-3)
         (1.0, 0.0, True)
         """
-        from .fracture.sif import default_radii, tip_result
+        from .fracture.sif import tip_radii, tip_result
 
         x, w, stress, grad = self.quadrature_fields()
         out = []
         for tip in self.scene.tips:
-            h = self.tip_size(tip)
-            rs = (radii(tip) if callable(radii) else radii) if radii is not None else \
-                default_radii(self.scene, tip, h)
+            rs = tip_radii(self.scene, tip, radii, self.tip_size(tip))
             faces = self._face_load(tip, max(rs))
             out.append(tip_result(self.scene, tip, x, w, stress, grad, rs, q=q, faces=faces,
                                   spread_tol=spread_tol))

@@ -94,7 +94,7 @@ class Solution:
         -------
         tuple of TipResult, one per tip of ``scene.tips``.
         """
-        from .fracture.sif import default_radii, face_loads, tip_result
+        from .fracture.sif import face_loads, tip_radii, tip_result
 
         x, w = self.disc.points.x, self.disc.points.w
         grad = self.gradient()
@@ -103,8 +103,7 @@ class Solution:
         out = []
         for k, tip in enumerate(self.scene.tips):
             h = self.tip_spacing(tip)
-            rs = (radii(tip) if callable(radii) else radii) if radii is not None else \
-                default_radii(self.scene, tip, h)
+            rs = tip_radii(self.scene, tip, radii, h)
             faces = face_loads(self.scene, tip, max(rs), lambda xs, side: self.gradient(xs), h)
             kk = None
             if enr is not None and enr.kind == "extrinsic_mls":

@@ -19,7 +19,7 @@ from ..crack import Tip
 from .integrals import SIF, FaceLoad, contract, domain_integrands
 from .qfunctions import QFunction
 
-__all__ = ["TipResult", "default_radii", "face_loads", "tip_result"]
+__all__ = ["TipResult", "default_radii", "face_loads", "tip_radii", "tip_result"]
 
 
 @dataclass(frozen=True)
@@ -151,6 +151,14 @@ def default_radii(scene, tip: Tip, h: float, multiples=(10.0, 12.5, 15.0)) -> tu
                           f"domain (free radius {free:.4g}); seed 001 advises >= 10 (refine near "
                           "the tip)", UserWarning, stacklevel=2)
     return tuple(float(r) for r in radii)
+
+
+def tip_radii(scene, tip: Tip, radii, h: float):
+    """The J-domain radii of one tip for ``sifs``: ``radii`` as given (a sequence, or a
+    callable ``tip -> sequence``), or :func:`default_radii` with spacing ``h`` when None."""
+    if radii is None:
+        return default_radii(scene, tip, h)
+    return radii(tip) if callable(radii) else radii
 
 
 def face_loads(scene, tip: Tip, radius: float, gradient, h: float, n: int = 12) -> FaceLoad | None:
