@@ -132,9 +132,10 @@ class Enrichment:
         """
         g = self.tips[t]
         near = np.hypot(*(x - g.tip.x).T) < self.r2
-        if g.kink is not None:
-            L = np.hypot(*(g.kink - g.tip.x))
-            near |= np.abs(np.hypot(*(x - g.kink).T) - L) < self.r2
+        if g.kink is None:  # r is the straight distance
+            return np.flatnonzero(near)
+        L = np.hypot(*(g.kink - g.tip.x))
+        near |= np.abs(np.hypot(*(x - g.kink).T) - L) < self.r2
         idx = np.flatnonzero(near)
         return idx[tip_coordinates(x[idx], g)[0] < self.r2]
 
