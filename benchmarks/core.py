@@ -23,13 +23,13 @@ import numpy as np
 
 from efgkit import EFG, Crack, Domain, Elastic, Field, Scene, Support, Traction, solve
 from efgkit.approx.mls import mls_shape
-from efgkit.assemble import stiffness
 from efgkit.fracture.integrals import domain_integrals
 from efgkit.fracture.qfunctions import QFunction
 from efgkit.io import write_json
 from efgkit.nodes import generate_nodes
-from efgkit.quadrature import cell_points
+from efgkit.quadrature.cells import cell_points
 from efgkit.search import BoxGrid, find_neighbours
+from efgkit.system.assemble import stiffness
 
 ROOT = Path(__file__).resolve().parents[1]
 

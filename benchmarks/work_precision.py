@@ -33,7 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from efgkit import EFG, Crack, Domain, Elastic, Field, Rosette, Scene, Support, solve
-from efgkit.fem import FEM, solve_fem
+from efgkit.fem.model import FEM, solve_fem
 from efgkit.io import write_json
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -33,7 +33,7 @@ def _message(err: BaseException) -> str:
 
 def _user_errors() -> tuple[type[BaseException], ...]:
     """Exceptions that mean "the input is wrong", not "efgkit has a bug"."""
-    from .linalg import SolverError
+    from .system.linalg import SolverError
 
     return (OSError, ValueError, TypeError, KeyError, SolverError)
 
@@ -83,18 +83,18 @@ def _summary(rep: dict) -> str:
 
 def _write_outputs(sol, out: Path, name: str, samples: int, timings: dict,
                    tips=()) -> list[Path]:
-    """Fields (VTU), node cloud (VTU) and the figures (PNG: nodes, stress and, with crack
-    tips, K against the J-domain radius); adds their timings."""
-    from .io import nodes_path, write_figure, write_vtu
-    from .plot import plot_domain_dependence, plot_nodes, plot_stress
+    """Fields (VTU), the discretisation (node cloud VTU) and the figures (PNG: nodes, stress
+    and, with crack tips, K against the J-domain radius); adds their timings."""
+    from .io import nodes_path, write_figure
+    from .plot import plot_domain_dependence
 
     t0 = time.perf_counter()
-    vtu = write_vtu(sol, out / f"{name}.vtu", n_target=samples)
+    vtu = sol.write_vtu(out / f"{name}.vtu", n_target=samples)
     outputs = [vtu, nodes_path(vtu)]
     timings["vtu"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    figures = [("nodes", lambda: plot_nodes(sol)),
-               ("stress", lambda: plot_stress(sol, n_target=samples))]
+    figures = [("nodes", sol.plot_discretization),
+               ("stress", lambda: sol.plot_stress(n_target=samples))]
     if tips:
         figures.append(("sif", lambda: plot_domain_dependence(tips)))
     for suffix, draw in figures:
@@ -109,9 +109,9 @@ def cmd_run(args) -> int:
     if not path.is_file():
         raise CLIError(f"scene file {str(path)!r} not found")
     from .io import jsonable
-    from .linalg import SolverError
     from .scenefile import load_study
     from .static import solve
+    from .system.linalg import SolverError
 
     t_run = time.perf_counter()
     timings = {}
@@ -148,8 +148,7 @@ def cmd_run(args) -> int:
     timings["total"] = time.perf_counter() - t_run
 
     rep = {"scene": scene.name, "file": str(path), "method": _method_fields(method),
-           "n_nodes": sol.nodes.n, "n_boundary_nodes": int(sol.nodes.boundary.sum()),
-           "n_dofs": len(sol.coeffs), "timings": timings, "outputs": outputs,
+           **sol.sizes(), "timings": timings, "outputs": outputs,
            "energy": energy, "errors": errors, "solver": dict(sol.info),
            "tips": [t.as_dict() for t in tips]}
     rep = jsonable(rep)

@@ -16,8 +16,8 @@ from pathlib import Path
 import numpy as np
 from scipy.spatial import Delaunay, cKDTree
 
-from .geometry import Domain, segments_intersect
-from .material import Elastic
+from .problem.geometry import Domain, segments_intersect
+from .problem.material import Elastic
 
 __all__ = ["jsonable", "nodes_path", "sample_grid", "von_mises", "write_figure", "write_json",
            "write_nodes_vtu", "write_vtu"]
@@ -148,7 +148,7 @@ def von_mises(stress: np.ndarray, material: Elastic) -> np.ndarray:
     return np.sqrt(0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) + 3 * sxy**2)
 
 
-def _pad3(v: np.ndarray) -> np.ndarray:
+def pad3(v: np.ndarray) -> np.ndarray:
     """(n, 2) -> (n, 3) with a zero z column (VTK vectors are 3D)."""
     return np.column_stack([v, np.zeros(len(v))])
 
@@ -179,7 +179,7 @@ def write_nodes_vtu(nodes, path) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     n = nodes.n
     meshio.write_points_cells(
-        path, _pad3(nodes.x), [("vertex", np.arange(n).reshape(n, 1))],
+        path, pad3(nodes.x), [("vertex", np.arange(n).reshape(n, 1))],
         point_data={"support_radius": np.asarray(nodes.radius, float),
                     "boundary": np.asarray(nodes.boundary, np.int32)})
     return path
@@ -189,8 +189,9 @@ def write_vtu(solution, path, n_target: int = 20000) -> Path:
     """Write the fields of a solution on :func:`sample_grid` as a VTU file.
 
     Triangle cells; point data ``displacement (n, 3)`` (z = 0), ``stress (n, 3)``
-    (xx, yy, xy) and ``von_mises (n,)`` (see :func:`von_mises`). The node cloud
-    goes to :func:`nodes_path` ``(path)`` (see :func:`write_nodes_vtu`).
+    (xx, yy, xy) and ``von_mises (n,)`` (see :func:`von_mises`). Any
+    :class:`~efgkit.solution.Solution` (meshless solutions also write their node
+    cloud, :meth:`MeshlessSolution.write_vtu <efgkit.meshless_solution.MeshlessSolution.write_vtu>`).
 
     Parameters
     ----------
@@ -217,10 +218,9 @@ def write_vtu(solution, path, n_target: int = 20000) -> Path:
     s = solution.stress(x)
     path.parent.mkdir(parents=True, exist_ok=True)
     meshio.write_points_cells(
-        path, _pad3(x), [("triangle", tri)],
-        point_data={"displacement": _pad3(u), "stress": s,
+        path, pad3(x), [("triangle", tri)],
+        point_data={"displacement": pad3(u), "stress": s,
                     "von_mises": von_mises(s, scene.material)})
-    write_nodes_vtu(solution.nodes, nodes_path(path))
     return path
 
 

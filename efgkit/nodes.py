@@ -13,8 +13,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
-from .geometry import Domain
-from .methods import EFG
+from .methods.efg import EFG
+from .problem.geometry import Domain
 
 __all__ = ["NodeCloud", "generate_nodes", "support_radii"]
 

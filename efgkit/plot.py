@@ -9,17 +9,17 @@ from __future__ import annotations
 
 import numpy as np
 
-from .geometry import Domain
 from .io import sample_grid, von_mises
+from .problem.geometry import Domain
 
 __all__ = ["COMPONENTS", "plot_domain_dependence", "plot_nodes", "plot_stress"]
 
 COMPONENTS = ("von_mises", "xx", "yy", "xy")
-_LABELS = {"von_mises": "von Mises stress", "xx": r"$\sigma_{xx}$", "yy": r"$\sigma_{yy}$",
+LABELS = {"von_mises": "von Mises stress", "xx": r"$\sigma_{xx}$", "yy": r"$\sigma_{yy}$",
            "xy": r"$\sigma_{xy}$"}
 
 
-def _axes(ax, domain: Domain, width: float = 7.0):
+def new_axes(ax, domain: Domain, width: float = 7.0):
     """``ax`` and its figure, or a new figure shaped to the domain's bounding box."""
     if ax is None:
         import matplotlib.pyplot as plt
@@ -31,7 +31,7 @@ def _axes(ax, domain: Domain, width: float = 7.0):
     return ax.figure, ax
 
 
-def _outline(ax, domain: Domain, cracks=()) -> None:
+def draw_outline(ax, domain: Domain, cracks=()) -> None:
     """Draw the boundary loops (black) and the cracks (red)."""
     for loop in domain.loops:
         p, _ = loop.polyline()
@@ -101,8 +101,8 @@ def plot_nodes(solution_or_nodes, domain: Domain | None = None, ax=None, support
     idx = np.asarray(supports_of, dtype=int).reshape(-1)
     if np.any((idx < 0) | (idx >= nodes.n)):
         raise ValueError(f"supports_of must index nodes 0..{nodes.n - 1}, got {list(supports_of)}")
-    fig, ax = _axes(ax, domain)
-    _outline(ax, domain, cracks)
+    fig, ax = new_axes(ax, domain)
+    draw_outline(ax, domain, cracks)
     b = np.asarray(nodes.boundary, bool)
     ax.plot(*nodes.x[~b].T, ".", ms=3, color="tab:blue", label="interior nodes")
     ax.plot(*nodes.x[b].T, ".", ms=4, color="tab:orange", label="boundary nodes")
@@ -118,7 +118,7 @@ def plot_nodes(solution_or_nodes, domain: Domain | None = None, ax=None, support
 
 
 def plot_stress(solution, component: str = "von_mises", ax=None, n_target: int = 20000,
-                levels: int = 30):
+                levels: int = 30, limits=None):
     """Filled contours of a stress component on :func:`~efgkit.io.sample_grid`.
 
     Parameters
@@ -133,6 +133,10 @@ def plot_stress(solution, component: str = "von_mises", ax=None, n_target: int =
     levels : int
         Number of contour levels. A field constant to rounding (a patch test)
         is drawn as one colour.
+    limits : (lo, hi), optional
+        Colour range (give the same to two plots to compare them); by default the
+        field's range, or its 0.5-99.5 percentiles when a crack-tip singularity
+        would take the whole range.
 
     Returns
     -------
@@ -150,8 +154,10 @@ def plot_stress(solution, component: str = "von_mises", ax=None, n_target: int =
     z = von_mises(s, scene.material) if component == "von_mises" else s[:, COMPONENTS.index(
         component) - 1]
     lo, hi = float(z.min()), float(z.max())
-    label = _LABELS[component]
-    if scene.cracks:  # a crack-tip singularity would take the whole colour range
+    label = LABELS[component]
+    if limits is not None:
+        lo, hi = (float(v) for v in limits)
+    elif scene.cracks:  # a crack-tip singularity would take the whole colour range
         clo, chi = (float(v) for v in np.percentile(z, [0.5, 99.5]))
         if hi - lo > 4 * (chi - clo):
             lo, hi, label = clo, chi, f"{label} (0.5-99.5 percentile range)"
@@ -161,13 +167,13 @@ def plot_stress(solution, component: str = "von_mises", ax=None, n_target: int =
         bounds = np.linspace(mid - 1e-3 * scale, mid + 1e-3 * scale, levels + 1)
     else:
         bounds = np.linspace(lo, hi, levels + 1)
-    fig, ax = _axes(ax, scene.domain, width=8.0)
+    fig, ax = new_axes(ax, scene.domain, width=8.0)
     cs = ax.tricontourf(Triangulation(x[:, 0], x[:, 1], tri), z, levels=bounds, cmap="viridis",
                         extend="both")
     fig.colorbar(cs, ax=ax, label=label)
-    _outline(ax, scene.domain, scene.cracks)
+    draw_outline(ax, scene.domain, scene.cracks)
     ax.set_aspect("equal")
-    ax.set_title(f"{scene.name}: {_LABELS[component]}")
+    ax.set_title(f"{scene.name}: {LABELS[component]}")
     return fig
 
 
@@ -190,7 +196,7 @@ def plot_domain_dependence(results, ax=None):
 
     Examples
     --------
-    >>> from efgkit.crack import Tip
+    >>> from efgkit.problem.crack import Tip
     >>> from efgkit.fracture.integrals import SIF
     >>> from efgkit.fracture.sif import TipResult
     >>> doms = tuple(SIF(1.0, 1.0 + 0.01 * k, 0.0, 0.0, 1.0, 100, 0.1 * (k + 1)) for k in range(3))

@@ -6,7 +6,7 @@ and optionally the discretisation (``[efg]``). Every key is documented in
 ``docs/scenes.md``. Values are in the user's consistent units and are never
 converted. Where a Python scene takes a callable, a file takes a named
 analytic field, written as a table ``{ field = "kirsch", a = 1.0 }``
-(:class:`~efgkit.analytic.Field`).
+(:class:`~efgkit.problem.exact.fields.Field`).
 
 The reader is strict: an unknown key is an error that names the key, its
 table and the nearest valid key; a missing required key, a wrong type or a
@@ -41,12 +41,12 @@ from pathlib import Path
 
 import numpy as np
 
-from .analytic import Field
-from .crack import Crack
-from .geometry import Domain, Loop
-from .material import Elastic
-from .methods import EFG, Rosette, Zone
-from .scene import Scene, Support, Traction
+from .methods.efg import EFG, Rosette, Zone
+from .problem.crack import Crack
+from .problem.exact.fields import Field
+from .problem.geometry import Domain, Loop
+from .problem.material import Elastic
+from .problem.scene import Scene, Support, Traction
 
 try:
     import tomllib

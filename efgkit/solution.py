@@ -1,159 +1,201 @@
-"""The result of a solve: MLS coefficients and the fields they define."""
+"""The result contract: one set of methods for EFG, MLPG and FEM solutions.
+
+Every solver returns a :class:`Solution`. Its fields evaluate anywhere in the
+body, its fracture quantities come from the same domain integrals, and its
+outputs have the same signatures and meaning, so the CLI, the verification
+scripts and user code never ask which method produced it:
+
+=====================  =====================================================
+``displacement(x)``    (n, 2) at points ``x (n, 2)`` (default: quadrature points)
+``gradient(x)``        (n, 2, 2), ``du_i/dx_j``
+``strain(x)``          (n, 3) Voigt (xx, yy, xy) with engineering shear
+``stress(x)``          (n, 3) Voigt (xx, yy, xy)
+``strain_energy()``    1/2 int eps : sigma over the body
+``errors(exact)``      relative L2 and energy-norm errors against a closed form
+``sifs(...)``          one :class:`~efgkit.fracture.sif.TipResult` per crack tip
+``reaction(edge)``     (2,) force the supports of ``edge`` apply to the body
+``cmod(crack)``        crack-mouth opening of an edge crack
+``write_vtu(path)``    fields for ParaView
+``plot_stress(...)``   filled contours of a stress component (a figure)
+``plot_discretization(ax)``  the nodes or the mesh (a figure)
+``record(...)``        JSON-ready summary (the keys of ``efgkit run --json``)
+``write(out, ...)``    VTU, figures and the record in a directory
+=====================  =====================================================
+
+The coefficients of a meshless solution are MLS parameters, not nodal
+displacements: evaluate fields with the methods, never index the coefficients.
+"""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+import dataclasses
+import re
+from abc import ABC, abstractmethod
+from pathlib import Path
 
 import numpy as np
 
-from .discretize import Discretization
-from .material import strain_from_gradient
+from .problem.crack import FACE_OFFSET
+from .problem.material import strain_from_gradient
 
 __all__ = ["Solution"]
 
 
-@dataclass(frozen=True, eq=False)
-class Solution:
-    """Scene + discretisation + MLS coefficients.
+class Solution(ABC):
+    """What every solve returns (module docstring); subclasses hold the method's data.
 
-    The coefficients ``coeffs (n_dofs,)`` (node-major, interleaved, then any
-    enrichment unknowns) are MLS parameters, not nodal displacements: evaluate
-    fields with the methods.
-
-    Attributes
-    ----------
-    disc : Discretization
-    coeffs : ndarray, shape (n_dofs,)
-        2 per node (interleaved), then the enrichment unknowns.
-    info : dict
-        Solver information (solver, residual, iterations).
-    timings : dict
-        Seconds per stage, discretisation included.
+    Subclasses provide ``scene``, ``info`` (solver information) and ``timings``
+    (seconds per stage) attributes and the abstract methods; ``strain``,
+    ``stress``, ``cmod``, ``record`` and ``write`` follow from them.
     """
 
-    disc: Discretization
-    coeffs: np.ndarray
-    info: dict = field(default_factory=dict)
-    timings: dict = field(default_factory=dict)
+    kind: str = "?"  # "efg", "mlpg" or "fem", the ``method.kind`` of records
+    discretization_figure: str = "discretization"  # file suffix of plot_discretization
 
-    @property
-    def scene(self):
-        return self.disc.scene
+    # ----------------------------------------------------------------- fields
 
-    @property
-    def method(self):
-        return self.disc.method
-
-    @property
-    def nodes(self):
-        return self.disc.nodes
-
-    def _fields(self, x, derivatives):
-        if x is None:
-            return self.disc.shape
-        x = self.scene.domain.field_points(x)
-        return self.disc.shape_at(x, derivatives=derivatives)
-
+    @abstractmethod
     def displacement(self, x=None) -> np.ndarray:
         """Displacement at points ``x (n, 2)`` (default: the quadrature points), shape (n, 2)."""
-        return self._fields(x, derivatives=False).displacement(self.coeffs)
 
+    @abstractmethod
     def gradient(self, x=None) -> np.ndarray:
-        """Displacement gradient du_i/dx_j at points ``x (n, 2)``, shape (n, 2, 2)."""
-        return self._fields(x, derivatives=True).gradient(self.coeffs)
+        """Displacement gradient ``du_i/dx_j`` at points ``x (n, 2)``, shape (n, 2, 2)."""
 
     def strain(self, x=None) -> np.ndarray:
         """Strain (xx, yy, xy engineering) at points ``x (n, 2)``, shape (n, 3)."""
-        return self._fields(x, derivatives=True).strain(self.coeffs)
+        return strain_from_gradient(self.gradient(x))
 
-    def tip_spacing(self, tip) -> float:
-        """The nodal spacing at a tip: c_I = d_mI / d_max of the node nearest to it."""
-        nodes = self.nodes
-        k = int(np.argmin(np.hypot(*(nodes.x - tip.x).T)))
-        return float(nodes.radius[k] / self.method.d_max)
+    def stress(self, x=None) -> np.ndarray:
+        """Stress (xx, yy, xy) at points ``x (n, 2)``, shape (n, 3): ``D eps``."""
+        return self.strain(x) @ self.scene.material.D.T
 
+    @abstractmethod
+    def strain_energy(self) -> float:
+        """U = 1/2 int eps : sigma dOmega over the body."""
+
+    @abstractmethod
+    def errors(self, exact=None) -> dict:
+        """Relative ``l2`` and ``energy`` errors (and ``energy_abs``) against ``exact``
+        (default ``scene.exact``)."""
+
+    # --------------------------------------------------------------- fracture
+
+    @abstractmethod
     def sifs(self, radii=None, q="wendland_c2", spread_tol: float = 0.01) -> tuple:
-        """K_I, K_II, J and T of every crack tip, from interaction integrals over domains.
+        """K_I, K_II, J and T of every crack tip: a tuple of TipResult, one per
+        ``scene.tips``, from interaction integrals over several domains."""
 
-        The integrals (:mod:`efgkit.fracture.integrals`) run over the domain
-        quadrature points, with the crack-face pressure term when the crack
-        is pressurised; each tip's result is the mean over the domains with
-        its spread (:func:`efgkit.fracture.sif.tip_result`).
+    @abstractmethod
+    def reaction(self, edge) -> np.ndarray:
+        """Force ``(2,)`` that the supports of ``edge`` (a name or a mask ``x -> bool``)
+        apply to the body."""
+
+    def cmod(self, crack) -> float:
+        """Crack-mouth opening ``(u_left - u_right) . n`` at the mouth of an edge crack.
+
+        ``n`` is the unit normal of the mouth segment pointing to the left face, so
+        the opening is positive when the faces separate. The two displacements are
+        taken :data:`~efgkit.problem.crack.FACE_OFFSET` of the domain size off the
+        crack line, on each face.
 
         Parameters
         ----------
-        radii : sequence of float, or callable ``tip -> radii``, optional
-            Domain radii (default: :func:`~efgkit.fracture.sif.default_radii`
-            with the spacing at the tip).
-        q : str or callable
-            q-function kind (see :class:`~efgkit.fracture.qfunctions.QFunction`).
-        spread_tol : float
-            Relative spread of K over the domains above which a warning is issued.
+        crack : Crack or str
+            A crack of the scene (or its name) with a mouth.
+        """
+        c = self._mouth_crack(crack)
+        end = 0 if not c.tips[0] else 1
+        a, b = c.segments[0] if end == 0 else c.segments[-1][::-1]
+        t = (b - a) / np.linalg.norm(b - a)  # into the body along the crack
+        n = np.array([-t[1], t[0]]) * (1.0 if end == 0 else -1.0)  # left normal of a -> b
+        off = FACE_OFFSET * self.scene.domain.size
+        x = np.array([a + off * (t + n), a + off * (t - n)])
+        u = self.displacement(x)
+        return float((u[0] - u[1]) @ n)
+
+    def _mouth_crack(self, crack):
+        """The scene's crack called ``crack`` (or with its name), checked to have a mouth."""
+        names = [c.name for c in self.scene.cracks]
+        name = getattr(crack, "name", crack)
+        if name not in names:
+            raise ValueError(f"the scene has no crack {name!r}; its cracks are {names}")
+        c = self.scene.cracks[names.index(name)]
+        if all(c.tips):
+            raise ValueError(f"crack {name!r} has no mouth (both ends are tips): a crack-mouth "
+                             "opening needs an edge crack")
+        return c
+
+    # ---------------------------------------------------------------- outputs
+
+    @abstractmethod
+    def write_vtu(self, path, n_target: int | None = None) -> Path:
+        """Write the fields as VTU; ``n_target`` samples the body on about that many points
+        (:func:`efgkit.io.sample_grid`), None writes the method's own discretisation
+        where it has one (the FE mesh) or 20 000 samples. Returns the path."""
+
+    @abstractmethod
+    def plot_stress(self, component: str = "von_mises", ax=None, levels: int = 30,
+                    limits=None, n_target: int | None = None):
+        """Filled contours of a stress component (``efgkit.plot.COMPONENTS``), colour range
+        ``limits = (lo, hi)`` or automatic; ``n_target`` samples as for :meth:`write_vtu`
+        (None: the FE mesh, or 20 000 samples). Returns the figure."""
+
+    @abstractmethod
+    def plot_discretization(self, ax=None):
+        """The node cloud (meshless methods) or the mesh (FEM); returns the figure."""
+
+    @property
+    def method(self):
+        """The discretisation description (EFG, MLPG or FEM)."""
+        raise NotImplementedError  # pragma: no cover - every subclass defines it
+
+    @abstractmethod
+    def sizes(self) -> dict:
+        """Counts of the discretisation: ``n_nodes``, ``n_dofs`` and the method's own
+        (``n_boundary_nodes``, ``n_elements``)."""
+
+    def record(self, radii=None, q="wendland_c2") -> dict:
+        """JSON-ready summary, with the keys of ``efgkit run --json``.
 
         Returns
         -------
-        tuple of TipResult, one per tip of ``scene.tips``.
+        dict
+            ``scene``, ``method`` (the description's fields and ``"kind"``), the sizes
+            (``n_nodes``, ``n_dofs`` and the method's own counts), ``timings``,
+            ``solver``, ``energy`` (strain energy), ``errors`` (against
+            ``scene.exact``, or None), ``tips`` (:meth:`TipResult.as_dict` of every tip,
+            from :meth:`sifs` with ``radii`` and ``q``) and ``cmod`` (crack name ->
+            opening, for cracks with a mouth).
         """
-        from .fracture.sif import face_loads, tip_radii, tip_result
+        from .io import jsonable
 
-        x, w = self.disc.points.x, self.disc.points.w
-        grad = self.gradient()
-        stress = strain_from_gradient(grad) @ self.scene.material.D.T  # no second pass
-        enr = self.disc.approx.enrichment
-        out = []
-        for k, tip in enumerate(self.scene.tips):
-            h = self.tip_spacing(tip)
-            rs = tip_radii(self.scene, tip, radii, h)
-            faces = face_loads(self.scene, tip, max(rs), lambda xs, side: self.gradient(xs), h)
-            kk = None
-            if enr is not None and enr.kind == "extrinsic_mls":
-                kk = tuple(self.coeffs[2 * self.nodes.n + 2 * k: 2 * self.nodes.n + 2 * k + 2])
-            out.append(tip_result(self.scene, tip, x, w, stress, grad, rs, q=q, faces=faces,
-                                  spread_tol=spread_tol, enriched=kk))
-        return tuple(out)
+        m = self.method
+        tips = self.sifs(radii=radii, q=q) if self.scene.tips else ()
+        fields = {f.name: getattr(m, f.name) for f in dataclasses.fields(m)
+                  if f.name != "coordinates"}
+        out = {"scene": self.scene.name, "method": {"kind": self.kind, **fields},
+               **self.sizes(), "timings": dict(self.timings), "solver": dict(self.info),
+               "energy": self.strain_energy(),
+               "errors": self.errors() if self.scene.exact is not None else None,
+               "tips": [t.as_dict() for t in tips],
+               "cmod": {c.name: self.cmod(c) for c in self.scene.cracks if not all(c.tips)}}
+        return jsonable(out)
 
-    def near_tip_estimates(self, tip, r=None) -> dict:
-        """Quick estimates of (K_I, K_II) at a tip, for comparison with :meth:`sifs`.
+    def write(self, out, name: str | None = None, radii=None) -> dict:
+        """Write ``<name>.vtu``, ``<name>_nodes.png`` (meshless) or ``<name>_mesh.png`` (FEM),
+        ``<name>_stress.png`` (von Mises) and ``<name>.json`` (:meth:`record` with
+        ``outputs``) into the directory ``out``; ``name`` defaults to the scene's name made
+        file-safe. Returns the record."""
+        from .io import write_figure, write_json
 
-        ``"stress_0"`` and ``"stress_90"``: from the stresses on the rays theta = 0 and
-        90 degrees, averaged over the two points nearest the tip (seed 000 Eqs. 5.2-5.5);
-        ``"cod"``: the crack-opening displacement behind the tip extrapolated to r = 0
-        (:mod:`efgkit.fracture.extrapolation`). ``r`` are the sample distances (default:
-        1 to 6 spacings at the tip).
-        """
-        from .fracture.extrapolation import cod_sif, near_tip_sif, ray_points
-
-        h = self.tip_spacing(tip)
-        r = h * np.arange(1.0, 7.0) if r is None else np.asarray(r, dtype=float)
-        up = tip.rotation[1]  # e2 of the tip frame: the upper face's side
-        face = {s: self.displacement(ray_points(tip, r, np.pi) + s * 1e-7 * h * up)
-                for s in (1.0, -1.0)}
-        return {"stress_0": near_tip_sif(tip, r, self.stress(ray_points(tip, r, 0.0)), 0.0),
-                "stress_90": near_tip_sif(tip, r, self.stress(ray_points(tip, r, np.pi / 2)),
-                                          np.pi / 2),
-                "cod": cod_sif(tip, r, face[1.0], face[-1.0], self.scene.material)}
-
-    def stress(self, x=None) -> np.ndarray:
-        """Stress (xx, yy, xy) at points ``x (n, 2)``, shape (n, 3)."""
-        return self.strain(x) @ self.scene.material.D.T
-
-    def strain_energy(self) -> float:
-        """U = 1/2 int eps : sigma dOmega over the domain quadrature."""
-        eps = self.strain()
-        return 0.5 * float(np.sum(self.disc.points.w * np.einsum("ni,ij,nj->n", eps,
-                                                                  self.scene.material.D, eps)))
-
-    def errors(self, exact=None) -> dict:
-        """Relative L2 displacement and energy-norm errors against an exact field.
-
-        Energy norm as seed 003 Eq. (36): [1/2 int (sigma - sigma^h):(eps - eps^h)]^(1/2),
-        divided by the same norm of the exact field. ``exact`` defaults to ``scene.exact``.
-
-        Returns
-        -------
-        dict with ``l2`` and ``energy`` (relative) and the absolute ``energy_abs``.
-        """
-        from .analytic import field_errors
-
-        return field_errors(exact, self.scene, self.disc.points.x, self.disc.points.w,
-                            self.displacement(), self.strain())
+        out = Path(out)
+        name = name or (re.sub(r"[^A-Za-z0-9_.-]+", "_", self.scene.name).strip("._") or "scene")
+        rec = self.record(radii)
+        paths = [self.write_vtu(out / f"{name}.vtu")]
+        for suffix, draw in ((self.discretization_figure, self.plot_discretization),
+                             ("stress", self.plot_stress)):
+            paths.append(write_figure(draw(), out / f"{name}_{suffix}.png"))
+        rec["outputs"] = [str(p) for p in paths + [out / f"{name}.json"]]
+        write_json(rec, out / f"{name}.json")
+        return rec

@@ -1,11 +1,12 @@
-"""Properties of the named closed-form fields (efgkit.analytic, efgkit.fracture.fields)."""
+"""Properties of the named closed-form fields (efgkit.problem.exact.fields, efgkit.problem.exact.williams)."""
 
 import numpy as np
 import pytest
 
-from efgkit.analytic import FIELDS, Field
-from efgkit.fracture.fields import rotate_voigt, williams_displacement, williams_stress
-from efgkit.material import Elastic
+from efgkit.problem.exact.fields import FIELDS, Field
+from efgkit.problem.exact.williams import williams_displacement, williams_stress
+from efgkit.problem.frames import rotate_voigt
+from efgkit.problem.material import Elastic
 
 PLANES = ("strain", "stress")
 RTOL = 1e-6

@@ -8,9 +8,9 @@ from scipy.sparse import diags_array
 from efgkit import EFG, Domain, Elastic
 from efgkit.approx.mls import mls_shape
 from efgkit.approx.shape import Shape
-from efgkit.assemble import load_vector, lumped_mass, stiffness
-from efgkit.constraints import rigid_body_modes
 from efgkit.nodes import generate_nodes
+from efgkit.system.assemble import load_vector, lumped_mass, stiffness
+from efgkit.system.constraints import rigid_body_modes
 
 
 @pytest.fixture(scope="module")
@@ -83,7 +83,7 @@ def test_enriched_stiffness_equals_B_transpose_W_D_B(symmetric):
     # regression: the enrichment-node block was the transpose of the node-enrichment block,
     # which holds for a symmetric D only (36 % off with an unsymmetric one)
     from efgkit import Crack, Scene
-    from efgkit.discretize import discretize
+    from efgkit.methods.discretize import discretize
 
     sc = Scene(Domain.rectangle(0, 0, 2, 1), Elastic(1.0, 0.3),
                cracks=(Crack([[0.0, 0.5], [0.9, 0.5]], tips=(False, True)),))

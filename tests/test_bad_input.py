@@ -8,8 +8,8 @@ import pytest
 
 from efgkit import EFG, Domain, Elastic, Loop, Scene, Support, Traction
 from efgkit.approx.mls import SingularMomentMatrix
-from efgkit.constraints import RigidBodyModeError
 from efgkit.static import solve
+from efgkit.system.constraints import RigidBodyModeError
 
 SQUARE = Domain.rectangle(0, 0, 1, 1)
 MAT = Elastic(1.0, 0.3)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from efgkit import EFG, Crack, Domain, Elastic, Field, Loop, Rosette, Scene, Support, discretize, solve
-from efgkit.discretize import approximation
+from efgkit.methods.discretize import approximation
 from efgkit.nodes import generate_nodes
 from efgkit.search import find_neighbours
 

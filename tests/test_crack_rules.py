@@ -11,7 +11,7 @@ import pytest
 from efgkit import EFG, Crack, Domain, Elastic, Rosette, Scene
 from efgkit.approx.crack_rules import CrackLines, CrackRule, crack_weights
 from efgkit.approx.weights import pair_weights, weight_function
-from efgkit.discretize import approximation
+from efgkit.methods.discretize import approximation
 from efgkit.nodes import NodeCloud, generate_nodes
 from efgkit.search import find_neighbours
 

@@ -11,9 +11,9 @@ import pytest
 
 from efgkit import EFG, Crack, Domain, Elastic, Field, Scene, Support, solve
 from efgkit.approx.tip_functions import TipGeometry, branch_functions, ramp, tip_coordinates, williams_modes
-from efgkit.discretize import approximation, discretize
-from efgkit.fracture.fields import williams_displacement
+from efgkit.methods.discretize import approximation, discretize
 from efgkit.nodes import generate_nodes
+from efgkit.problem.exact.williams import williams_displacement
 
 A = 1.0
 MAT = Elastic(1000.0, 0.3, "strain")

@@ -18,8 +18,9 @@ import pytest  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
 from efgkit import Crack, Domain, Elastic, Field, Loop, Scene, Support, Traction  # noqa: E402
-from efgkit.constraints import RigidBodyModeError  # noqa: E402
-from efgkit.fem import FEM, FEMSolution, solve_fem  # noqa: E402
+from efgkit.fem.model import FEM, solve_fem
+from efgkit.fem.solution import FEMSolution
+from efgkit.system.constraints import RigidBodyModeError  # noqa: E402
 
 MAT = Elastic(1000.0, 0.3, "strain")
 L_SHAPE = Domain(Loop.polygon([[0, 0], [2, 0], [2, 1], [1, 1], [1, 0.6], [0, 0.6]],

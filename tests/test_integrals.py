@@ -21,31 +21,17 @@ import numpy as np  # noqa: E402
 import pytest  # noqa: E402
 
 from efgkit import Crack, Domain, Elastic, Scene  # noqa: E402
-from efgkit.crack import Tip  # noqa: E402
-from efgkit.fracture.fields import (  # noqa: E402
-    rotate_gradient,
-    rotate_vectors,
-    rotate_voigt,
-    tip_polar,
-    williams_displacement,
-    williams_gradient,
-    williams_stress,
-)
-from efgkit.fracture.griffith import griffith_field  # noqa: E402
-from efgkit.fracture.integrals import (  # noqa: E402
-    SIF,
-    FaceLoad,
-    contract,
-    domain_integrals,
-    domain_integrands,
-    k_from_j,
-)
+from efgkit.fracture.integrals import SIF, FaceLoad, contract, domain_integrals, domain_integrands, k_from_j
 from efgkit.fracture.qfunctions import QFunction  # noqa: E402
 from efgkit.fracture.sif import TipResult, default_radii, tip_result  # noqa: E402
 from efgkit.fracture.volumes import nodal_volumes  # noqa: E402
-from efgkit.geometry import Loop  # noqa: E402
 from efgkit.plot import plot_domain_dependence  # noqa: E402
-from efgkit.quadrature import cell_points  # noqa: E402
+from efgkit.problem.crack import Tip  # noqa: E402
+from efgkit.problem.exact.griffith import griffith_field  # noqa: E402
+from efgkit.problem.exact.williams import williams_displacement, williams_gradient, williams_stress
+from efgkit.problem.frames import rotate_gradient, rotate_vectors, rotate_voigt, tip_polar
+from efgkit.problem.geometry import Loop  # noqa: E402
+from efgkit.quadrature.cells import cell_points  # noqa: E402
 
 KI, KII, T = 1.3, -0.6, 0.45
 
@@ -251,7 +237,7 @@ def test_k_from_j():
 
 @pytest.mark.parametrize("n, order, kind, bound_K, bound_T", [
     # square [-1, 1]^2, tip at the centre, crack along -x1, r_out = 0.6, K_I = 1, K_II = 0.5,
-    # T = 0.3, exact Williams field at the points of efgkit.quadrature.cell_points.
+    # T = 0.3, exact Williams field at the points of efgkit.quadrature.cells.cell_points.
     # Measured |K - K_exact| (K_I, K_II) and |T - T_exact|:
     # n = 20 (crack on cell edges, tip at a corner), order 4: wendland 7.0e-6, 1.9e-6 (T 5.7e-3);
     #   plateau 2.5e-5, 1.1e-5 (T 6.7e-5)
@@ -434,7 +420,7 @@ def test_bad_input_tip_result():
         tip_result(sc, tip, x, w, s, g, [0.5, 1.0])
     with pytest.raises(ValueError, match=r"tip a:1 .*radius 1e-09 holds no points"):
         tip_result(sc, tip, x, w, s, g, [1e-9, 0.5, 1.0])
-    with pytest.raises(TypeError, match="tip must be an efgkit.crack.Tip"):
+    with pytest.raises(TypeError, match="tip must be an efgkit.problem.crack.Tip"):
         tip_result(sc, (0.0, 0.0), x, w, s, g, [0.3, 0.5, 1.0])
     with pytest.raises(ValueError, match="is not a tip of the scene"):
         tip_result(sc, Tip(np.array([9.0, 9.0]), 0.0, "a", 1), x, w, s, g, [0.3, 0.5, 1.0])
@@ -462,7 +448,7 @@ def test_bad_input_domain_integrals():
         domain_integrals(x, w, s, g, tip, m, "wendland_c2")
     with pytest.raises(TypeError, match="material must be an Elastic"):
         domain_integrals(x, w, s, g, tip, None, q)
-    with pytest.raises(TypeError, match="tip must be an efgkit.crack.Tip"):
+    with pytest.raises(TypeError, match="tip must be an efgkit.problem.crack.Tip"):
         domain_integrals(x, w, s, g, np.zeros(2), m, q)
     with pytest.raises(ValueError, match=r"tip c:1 .* radius 0.5 holds no points"):
         domain_integrals(x + 10.0, w, s, g, tip, m, q)
@@ -493,7 +479,7 @@ def test_one_integrand_pass_serves_every_domain():
         contract(terms, QFunction("wendland_c2", 0.5), faces="none")
 
 
-# --- the fields the integrals are built on (efgkit.fracture.fields additions) ------------
+# --- the fields the integrals are built on (efgkit.problem.exact.williams additions) ------------
 
 def _fd_gradient(u, x, h=1e-6):
     """Central differences of ``u: x (n, 2) -> (n, 2)``, shape (n, 2, 2)."""
@@ -507,7 +493,11 @@ def _strain(g):
 
 @pytest.mark.parametrize("plane", ["strain", "stress"])
 def test_field_gradients_and_compliance(plane):
-    from efgkit.fracture.fields import point_force_displacement, point_force_gradient, point_force_stress
+    from efgkit.problem.exact.williams import (
+        point_force_displacement,
+        point_force_gradient,
+        point_force_stress,
+    )
 
     m = Elastic(3.0, 0.3, plane)
     rng = np.random.default_rng(1)
@@ -529,7 +519,7 @@ def test_field_gradients_and_compliance(plane):
 
 
 def test_point_force_balances_f_and_griffith_faces_carry_p():
-    from efgkit.fracture.fields import point_force_stress
+    from efgkit.problem.exact.williams import point_force_stress
 
     t, tw = np.polynomial.legendre.leggauss(40)
     th, w = np.pi * t, np.pi * tw

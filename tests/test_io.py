@@ -8,7 +8,6 @@ import numpy as np
 import pytest
 
 from efgkit import EFG, Crack, Domain, Elastic, Loop, Scene, Support, Traction
-from efgkit.geometry import segments_intersect
 from efgkit.io import (
     jsonable,
     nodes_path,
@@ -17,8 +16,8 @@ from efgkit.io import (
     write_figure,
     write_json,
     write_nodes_vtu,
-    write_vtu,
 )
+from efgkit.problem.geometry import segments_intersect
 from efgkit.static import solve
 
 HOLE_C, HOLE_R = np.array([1.0, 0.5]), 0.25
@@ -106,7 +105,7 @@ def holed_solution():
 
 def test_write_vtu_round_trip(holed_solution, tmp_path):
     sol = holed_solution
-    path = write_vtu(sol, tmp_path / "sub" / "holed", n_target=1500)
+    path = sol.write_vtu(tmp_path / "sub" / "holed", n_target=1500)
     assert path == tmp_path / "sub" / "holed.vtu" and path.is_file()
     mesh = meshio.read(path)
     x = mesh.points[:, :2]

@@ -8,12 +8,12 @@ import pytest
 from scipy.sparse import csr_array
 
 from efgkit import EFG, Domain, Elastic, Loop, Scene, Support, Traction, solve
-from efgkit.assemble import stiffness
-from efgkit.auxiliary import chebyshev_inverse, p1_stiffness
-from efgkit.constraints import LinearSystem, penalty, rigid_body_modes
-from efgkit.linalg import SolverError
-from efgkit.linalg import solve as linear_solve
-from efgkit.static import essential_conditions, loads
+from efgkit.methods.boundary import essential_conditions, loads
+from efgkit.system.assemble import stiffness
+from efgkit.system.auxiliary import chebyshev_inverse, p1_stiffness
+from efgkit.system.constraints import LinearSystem, penalty, rigid_body_modes
+from efgkit.system.linalg import SolverError
+from efgkit.system.linalg import solve as linear_solve
 
 
 def _plate(hole=False):
@@ -68,7 +68,7 @@ def test_cracked_square_with_one_node_aggregates():
 
 
 def test_coarse_solver_falls_back_to_the_pseudo_inverse():
-    from efgkit.auxiliary import coarse_solver
+    from efgkit.system.auxiliary import coarse_solver
 
     A = csr_array(np.array([[2.0, -2.0, 0.0], [-2.0, 2.0, 0.0], [0.0, 0.0, 1.0]]))  # singular
     b = np.array([1.0, -1.0, 3.0])  # in the range of A

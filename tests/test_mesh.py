@@ -1,4 +1,4 @@
-"""efgkit.mesh: Triangle meshes of scenes (areas, named facets, opened cracks, grading)."""
+"""efgkit.fem.mesh: Triangle meshes of scenes (areas, named facets, opened cracks, grading)."""
 
 import math
 
@@ -12,7 +12,8 @@ import pytest  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
 from efgkit import Crack, Domain, Elastic, Loop, Scene  # noqa: E402
-from efgkit.mesh import TriMesh, mesh_scene, plot_mesh, size_field  # noqa: E402
+from efgkit.fem.mesh import TriMesh, mesh_scene, size_field  # noqa: E402
+from efgkit.fem.output import plot_mesh  # noqa: E402
 
 MAT = Elastic(1.0, 0.3)
 L_SHAPE = Domain(Loop.polygon([[0, 0], [2, 0], [2, 1], [1, 1], [1, 2], [0, 2]],

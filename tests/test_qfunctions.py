@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from efgkit.crack import Tip
 from efgkit.fracture.qfunctions import KINDS, QFunction
+from efgkit.problem.crack import Tip
 
 R_OUT = 0.8
 CASES = [

@@ -7,16 +7,11 @@ import numpy as np
 import pytest
 
 import efgkit.quadrature as quadrature
-from efgkit.boundary_quadrature import boundary_points
-from efgkit.geometry import Domain, Loop
-from efgkit.methods import Zone
-from efgkit.quadrature import (
-    Points,
-    cell_points,
-    gauss_legendre,
-    triangle_points,
-    triangle_rule,
-)
+from efgkit.methods.efg import Zone
+from efgkit.problem.geometry import Domain, Loop
+from efgkit.quadrature.boundary import boundary_points
+from efgkit.quadrature.cells import cell_points, triangle_points
+from efgkit.quadrature.rules import Points, gauss_legendre, triangle_rule
 
 RECT = Domain.rectangle(0, 0, 2, 1)  # grid-aligned for cell sizes dividing 1
 SKEW_RECT = Domain.rectangle(0.03, -0.1, 1.07, 0.83)  # cut cells on the right and top
@@ -340,7 +335,7 @@ def test_cells_split_by_an_inclined_crack_keep_their_area(angle, cell):
 def test_tip_fans_stay_in_their_cells_with_a_rosette():
     # regression: a rosette node 2e-17 off the crack line sent a fan ray backwards
     from efgkit import EFG, Crack, Elastic, Rosette, Scene
-    from efgkit.discretize import discretize
+    from efgkit.methods.discretize import discretize
 
     scene = Scene(Domain.rectangle(-1, -1, 1, 1), Elastic(1.0, 0.3),
                   cracks=(Crack([[-1.0, 0.0], [0.0, 0.0]], (False, True)),))
@@ -365,7 +360,7 @@ def test_tip_cells_entered_by_boundary_or_another_segment_keep_the_body_area(ver
 
 def test_tip_fan_exit_near_a_corner_keeps_the_cell_area():
     # regression: exits within 1e-5 of a corner took the corner's perimeter value (rtol)
-    from efgkit.tip_quadrature import tip_cell_rule
+    from efgkit.quadrature.tip_cells import tip_cell_rule
 
     x, w = tip_cell_rule(np.zeros(2), 1.0, np.array([0.5, 0.5]), np.array([[0.499995, 0.5]]), 8)
     assert abs(w.sum() - 1.0) < 1e-14

@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from efgkit import EFG, Elastic, Scene, Support, Traction, Zone
-from efgkit.analytic import Field
-from efgkit.scene import evaluate_vector
+from efgkit.problem.exact.fields import Field
+from efgkit.problem.scene import evaluate_vector
 from efgkit.scenefile import (
     _SCHEMA,
     efg_from_dict,

@@ -14,12 +14,12 @@ import numpy as np
 import pytest
 
 from efgkit import EFG, Crack, Domain, Elastic, Field, Loop, Scene, Support, Traction, solve
-from efgkit.crack import Tip
-from efgkit.fracture.griffith import griffith_field
 from efgkit.fracture.integrals import domain_integrals
 from efgkit.fracture.qfunctions import QFunction
 from efgkit.fracture.sif import tip_result
 from efgkit.fracture.volumes import nodal_volumes
+from efgkit.problem.crack import Tip
+from efgkit.problem.exact.griffith import griffith_field
 
 RADII = (0.3, 0.5, 0.7)
 ENRICHED = dict(enrichment="extrinsic_mls", rule_power=1.0)

@@ -53,7 +53,7 @@ def test_without_body_force_the_same_scene_is_wrong():
 
 
 def test_bc_methods_agree_on_cantilever():
-    from efgkit.analytic import Field
+    from efgkit.problem.exact.fields import Field
 
     f = Field.named("cantilever", L=8.0, D=2.0, P=1.0)
     scene = Scene(Domain.rectangle(0, -1, 8, 1), MAT, supports=(Support("left", ux=f, uy=f),),

@@ -1,12 +1,15 @@
 """Verification scripts run in quick mode, so they never rot; each must pass its checks."""
 
 import importlib.util
+import sys
 from pathlib import Path
 
 import pytest
 
 VERIFICATION = Path(__file__).resolve().parents[1] / "verification"
 SCRIPTS = sorted(p for p in VERIFICATION.glob("*.py") if not p.name.startswith("_"))
+if str(VERIFICATION) not in sys.path:  # the scripts import their siblings (_report), as the CLI
+    sys.path.insert(0, str(VERIFICATION))  # lets them
 
 
 def load(path):

@@ -10,10 +10,10 @@ only error is the discretisation (and quadrature) error. Expected rates: h^1
 from __future__ import annotations
 
 import numpy as np
+from _report import Report
 
 from efgkit import EFG, Domain, Elastic, Scene, Support, Traction
-from efgkit.analytic import Field
-from efgkit.report import Report
+from efgkit.problem.exact.fields import Field
 from efgkit.static import solve
 
 NAME = "cantilever"

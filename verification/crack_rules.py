@@ -39,11 +39,11 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+from _report import Report
 
 from efgkit import EFG, Crack, Domain, Elastic, Scene
-from efgkit.discretize import approximation
+from efgkit.methods.discretize import approximation
 from efgkit.nodes import generate_nodes
-from efgkit.report import Report
 
 NAME = "crack_rules"
 TITLE = "Crack rules: weight and shape functions at a tip (seed 003 Sect. 4, Figs. 12-17, 25)"

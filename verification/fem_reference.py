@@ -21,10 +21,10 @@ import time
 from pathlib import Path
 
 import numpy as np
+from _report import Report
 
 from efgkit import Crack, Domain, Elastic, Field, Scene, Support
-from efgkit.fem import FEM, solve_fem
-from efgkit.report import Report
+from efgkit.fem.model import FEM, solve_fem
 
 NAME = "fem_reference"
 TITLE = "FEM reference model on the singular patch"

@@ -8,7 +8,7 @@ sigma'_22 = sigma cos^2 beta, sigma'_12 = sigma sin beta cos beta, and the field
 sum of
 
 * the mode-I Westergaard field of remote biaxial tension sigma'_22
-  (:func:`efgkit.fracture.griffith.griffith_field`, ``loading="remote"``),
+  (:func:`efgkit.problem.exact.griffith.griffith_field`, ``loading="remote"``),
 * the uniform stress sigma'_11 - sigma'_22 along the crack (it does not see the crack),
 * the mode-II Westergaard field of remote shear tau = sigma'_12 (:func:`mode_ii_field`).
 
@@ -37,11 +37,11 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+from _report import Report
 
 from efgkit import EFG, Crack, Domain, Elastic, Scene, Support, solve
-from efgkit.fracture.griffith import griffith_field
 from efgkit.io import write_figure
-from efgkit.report import Report
+from efgkit.problem.exact.griffith import griffith_field
 
 NAME = "inclined"
 TITLE = "Inclined Griffith crack: mixed mode, both tips, mirror and kink angle"
@@ -309,7 +309,7 @@ def markdown(record: dict) -> list[str]:
               ""]
     if m["defect_30deg"]:
         lines += ["**Regression study: cells cut by an inclined crack (a fixed efgkit defect).** "
-                  "`efgkit.cut_cells.cut_triangles` sorts the lines of each vertical slab by "
+                  "`efgkit.quadrature.cut_cells.cut_triangles` sorts the lines of each vertical slab by "
                   "the key `0.5 * (la + lb)`, with the `up` tie-break putting the two sides of a "
                   "crack slit in order; the two sides are the same segment travelled both ways, "
                   "evaluated from opposite ends, so their keys differed by rounding, the tie-break "

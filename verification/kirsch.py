@@ -10,10 +10,10 @@ and the relative energy-norm error (Eq. 36) per refinement.
 from __future__ import annotations
 
 import numpy as np
+from _report import Report
 
 from efgkit import EFG, Domain, Elastic, Loop, Scene, Support, Traction, Zone
-from efgkit.analytic import Field
-from efgkit.report import Report
+from efgkit.problem.exact.fields import Field
 from efgkit.static import solve
 
 NAME = "kirsch"

@@ -35,10 +35,10 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+from _report import Report
 
 from efgkit import EFG, Crack, Domain, Elastic, Field, Rosette, Scene, Support
-from efgkit.discretize import discretize
-from efgkit.report import Report
+from efgkit.methods.discretize import discretize
 from efgkit.static import solve
 
 NAME = "near_tip"

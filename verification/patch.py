@@ -8,9 +8,9 @@ is not exact, so the error is also reported against the Gauss order.
 from __future__ import annotations
 
 import numpy as np
+from _report import Report
 
 from efgkit import EFG, Domain, Elastic, Scene, Support
-from efgkit.report import Report
 from efgkit.static import solve
 
 NAME = "patch"

@@ -30,13 +30,13 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+from _report import Report
 
 from efgkit import EFG, Crack, Domain, Elastic, Field, Loop, Scene, Support, solve
 from efgkit.fracture.integrals import domain_integrals
 from efgkit.fracture.qfunctions import QFunction
 from efgkit.fracture.volumes import nodal_volumes
 from efgkit.io import write_figure
-from efgkit.report import Report
 
 NAME = "q_functions"
 TITLE = "q-functions of the J integral (seed 001 Sect. 8)"

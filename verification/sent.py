@@ -27,15 +27,15 @@ import time
 from pathlib import Path
 
 import numpy as np
+from _report import Report
 
 from efgkit import EFG, Crack, Domain, Elastic, Loop, Rosette, Scene, Support, solve
-from efgkit.fem import FEM, solve_fem
+from efgkit.fem.model import FEM, solve_fem
 from efgkit.fracture.integrals import contract, domain_integrands
 from efgkit.fracture.qfunctions import QFunction
 from efgkit.fracture.sif import tip_result
 from efgkit.fracture.volumes import nodal_volumes
-from efgkit.material import strain_from_gradient
-from efgkit.report import Report
+from efgkit.problem.material import strain_from_gradient
 
 NAME = "sent"
 TITLE = "Single-edge-notched tension specimen (seed 001 Sect. 4)"
@@ -146,9 +146,9 @@ def quad_model(n: int, sc: Scene | None = None) -> dict:
     from skfem import Basis, ElementQuadS2, ElementVector, MeshQuad1, asm
     from skfem.models.elasticity import linear_elasticity
 
-    from efgkit.constraints import LinearSystem
-    from efgkit.fem import _rigid_modes
-    from efgkit.linalg import solve as lsolve
+    from efgkit.fem.model import _rigid_modes
+    from efgkit.system.constraints import LinearSystem
+    from efgkit.system.linalg import solve as lsolve
 
     sc = sc or scene()
     t0 = time.perf_counter()

@@ -22,11 +22,11 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+from _report import Report
 
 from efgkit import EFG, FEM, Crack, Domain, Elastic, Scene, Support, Traction, solve, solve_fem
 from efgkit.approx.mls import SingularMomentMatrix
 from efgkit.io import write_figure
-from efgkit.report import Report
 
 NAME = "shear_edge_crack"
 TITLE = "Shear edge crack (seed 003 Table 1)"

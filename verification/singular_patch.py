@@ -21,10 +21,10 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+from _report import Report
 
 from efgkit import EFG, Crack, Domain, Elastic, Field, Loop, Rosette, Scene, Support, discretize
 from efgkit.io import write_figure
-from efgkit.report import Report
 from efgkit.static import solve
 
 NAME = "singular_patch"

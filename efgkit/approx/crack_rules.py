@@ -17,7 +17,7 @@ rules differ in what a crossing does to the weight w(d_I / d_mI):
 Conventions that make every test deterministic:
 
 * a point on a crack line is on the segment's left face
-  (:meth:`efgkit.crack.Crack.side`);
+  (:meth:`efgkit.problem.crack.Crack.side`);
 * a crack segment is open at a tip: a ray through the tip itself does not
   cross, so a node at the tip sees every point of its support;
 * nodes split on a crack (``NodeCloud.face``, ``face_segment``) look from
@@ -37,7 +37,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..methods import CRACK_RULES
+from ..methods.efg import CRACK_RULES
 from ..nodes import NodeCloud
 from ..search import Neighbours
 

@@ -197,6 +197,90 @@ def _modified_chunk(x, nb, w, dw, P, gp, is_b, m, offset):
     return phi, out[0], out[1]
 
 
+def _check_neighbour_counts(x, nb, basis, special):
+    """Raise SingularMomentMatrix if a point has fewer neighbours than the basis has terms.
+
+    ``special (n,)`` bool or None: points whose support holds an interpolating
+    node, left to the bordered system's own check. Returns None.
+    """
+    lonely = nb.counts < basis_size(basis)
+    if special is not None:
+        lonely &= ~special
+    lonely = np.flatnonzero(lonely)
+    if len(lonely):
+        k = lonely[0]
+        raise SingularMomentMatrix(
+            f"point {k} {x[k].tolist()} has {int(nb.counts[k])} neighbour(s), fewer than the "
+            f"{basis_size(basis)} terms of the {basis} basis ({len(lonely)} point(s) affected). "
+            "Remedy: enlarge the support (d_max) or add nodes near this point."
+        )
+
+
+def _numba_path(x, nodes, nb, given, weight, basis, beta, derivatives):
+    """Plain MLS by the compiled kernels (:mod:`efgkit.approx.kernels`) at every point of ``x (n, 2)``.
+
+    ``nb`` holds the neighbours ``(n, k)``, ``given`` the crack rule's padded
+    ``(w, dwx, dwy)``, each (n, k), or None. Returns the list ``[phi, dphidx,
+    dphidy]`` of ndarray (n, k); raises SingularMomentMatrix (point numbers
+    counted in ``x``).
+    """
+    from .kernels import BASIS_IDS, WEIGHT_IDS, mls_linear, mls_padded
+
+    wg = [np.zeros((0, 0))] * 3 if given is None else list(given)
+    if basis == "linear":
+        res = mls_linear(x, nodes.x, nodes.radius, nb.idx, nb.mask, WEIGHT_IDS[weight],
+                         beta, derivatives, *wg)
+    else:
+        res = mls_padded(x, nodes.x, nodes.radius, nb.idx, nb.mask, WEIGHT_IDS[weight],
+                         beta, BASIS_IDS[basis], derivatives, *wg)
+    bad = np.flatnonzero(~(res[3] >= RCOND_MIN))
+    if len(bad):
+        _raise_singular(x, bad, res[3], nb.counts, 0)
+    return list(res[:3])
+
+
+def _numpy_path(x, nodes, nb, given, wfun, basis, derivatives, interpolate, chunk, rows=None, vals=None):
+    """MLS by plain numpy at the points ``rows`` of ``x (n, 2)`` (all if None), ``chunk`` at a time.
+
+    A chunk whose supports hold an interpolating node takes the modified MLS
+    (:func:`_modified_chunk`). The results go into the rows ``rows`` of
+    ``vals`` (new zero arrays if None). Returns ``vals``, the list ``[phi,
+    dphidx, dphidy]`` of ndarray (n, k) (the derivatives left as they were
+    without ``derivatives``).
+    """
+    if vals is None:
+        vals = [np.zeros(nb.idx.shape) for _ in range(3)]
+    if rows is None:
+        rows = np.arange(len(x))
+    for s in range(0, len(rows), chunk):
+        sl = rows[s:s + chunk]
+        res = _mls_chunk(x[sl], nodes, nb.subset(sl), wfun, basis, derivatives, interpolate, s,
+                         None if given is None else [g[sl] for g in given])
+        for v, r in zip(vals, res, strict=True):
+            if r is not None:
+                v[sl] = r
+    return vals
+
+
+def _modified_path(x, nodes, nb, given, special, weight, basis, beta, derivatives, wfun, interpolate,
+                   chunk):
+    """The numba backend when some supports hold interpolating nodes (seed 002 modified MLS).
+
+    The compiled kernel serves the points of ``x (n, 2)`` whose ``special (n,)``
+    is False, the numpy path (the bordered system) the others. Returns the list
+    ``[phi, dphidx, dphidy]`` of ndarray (n, k).
+    """
+    plain = np.flatnonzero(~special)
+    res = _numba_path(x[plain], nodes, nb.subset(plain),
+                      None if given is None else [g[plain] for g in given],
+                      weight, basis, beta, derivatives)
+    vals = [np.zeros(nb.idx.shape) for _ in range(3)]
+    for v, r in zip(vals, res, strict=True):
+        v[plain] = r
+    return _numpy_path(x, nodes, nb, given, wfun, basis, derivatives, interpolate, chunk,
+                       rows=np.flatnonzero(special), vals=vals)
+
+
 def mls_shape(x: np.ndarray, nodes: NodeCloud, weight: str = "quartic", basis: str = "linear",
               *, d_max: float = 2.0, alpha: float = 0.5, derivatives: bool = True,
               neighbours: Neighbours | None = None, interpolate: np.ndarray | None = None,
@@ -253,58 +337,19 @@ def mls_shape(x: np.ndarray, nodes: NodeCloud, weight: str = "quartic", basis: s
     if weights is not None:
         nb = Neighbours(nb.idx, weights[0])
         given = tuple(np.ascontiguousarray(a, dtype=float) for a in weights[1:])
-    lonely = nb.counts < basis_size(basis)
-    if interpolate is not None:  # the bordered system's own check covers these points
-        lonely &= ~(interpolate[nb.idx] & nb.mask).any(axis=1)
-    lonely = np.flatnonzero(lonely)
-    if len(lonely):
-        k = lonely[0]
-        raise SingularMomentMatrix(
-            f"point {k} {x[k].tolist()} has {int(nb.counts[k])} neighbour(s), fewer than the "
-            f"{basis_size(basis)} terms of the {basis} basis ({len(lonely)} point(s) affected). "
-            "Remedy: enlarge the support (d_max) or add nodes near this point."
-        )
+    # points whose support holds an interpolating node (the modified MLS)
+    special = None if interpolate is None else (interpolate[nb.idx] & nb.mask).any(axis=1)
+    _check_neighbour_counts(x, nb, basis, special)
     if backend not in ("numba", "numpy"):
         raise ValueError(f"backend must be 'numba' or 'numpy', got {backend!r}")
     wfun = weight_function(weight, d_max, alpha)
-    plain = None
-    if interpolate is not None:  # points whose support holds an interpolating node
-        special = (interpolate[nb.idx] & nb.mask).any(axis=1)
-        plain = np.flatnonzero(~special) if special.any() else None
-    if backend == "numba" and (plain is None or len(plain)):
-        from .kernels import BASIS_IDS, WEIGHT_IDS, mls_linear, mls_padded
-
-        sub = nb if plain is None else nb.subset(plain)
-        xs = x if plain is None else x[plain]
-        wg = [np.zeros((0, 0))] * 3 if given is None else [
-            g if plain is None else g[plain] for g in given]
-        if basis == "linear":
-            res = mls_linear(xs, nodes.x, nodes.radius, sub.idx, sub.mask, WEIGHT_IDS[weight],
-                             d_max / alpha, derivatives, *wg)
-        else:
-            res = mls_padded(xs, nodes.x, nodes.radius, sub.idx, sub.mask, WEIGHT_IDS[weight],
-                             d_max / alpha, BASIS_IDS[basis], derivatives, *wg)
-        bad = np.flatnonzero(~(res[3] >= RCOND_MIN))
-        if len(bad):
-            _raise_singular(xs, bad, res[3], sub.counts, 0)
-        if plain is None:
-            vals = list(res[:3])
-            todo = np.arange(0)
-        else:
-            vals = [np.zeros(nb.idx.shape) for _ in range(3)]
-            for v, r in zip(vals, res[:3], strict=True):
-                v[plain] = r
-            todo = np.flatnonzero(special)
+    if backend == "numba" and (special is None or not special.any()):
+        vals = _numba_path(x, nodes, nb, given, weight, basis, d_max / alpha, derivatives)
+    elif backend == "numba" and not special.all():
+        vals = _modified_path(x, nodes, nb, given, special, weight, basis, d_max / alpha, derivatives,
+                              wfun, interpolate, chunk)
     else:
-        vals = [np.zeros(nb.idx.shape) for _ in range(3)]
-        todo = np.arange(len(x))
-    for s in range(0, len(todo), chunk):
-        sl = todo[s:s + chunk]
-        res = _mls_chunk(x[sl], nodes, nb.subset(sl), wfun, basis, derivatives, interpolate, s,
-                         None if given is None else [g[sl] for g in given])
-        for v, r in zip(vals, res, strict=True):
-            if r is not None:
-                v[sl] = r
+        vals = _numpy_path(x, nodes, nb, given, wfun, basis, derivatives, interpolate, chunk)
     if not derivatives:
         vals[1] = vals[2] = None
     return Shape(nb, vals[0], vals[1], vals[2], nodes.n)

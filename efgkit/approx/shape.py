@@ -15,7 +15,7 @@ from functools import cached_property
 import numpy as np
 from scipy.sparse import csr_array
 
-from ..material import strain_from_gradient
+from ..problem.material import strain_from_gradient
 from ..search import Neighbours
 
 __all__ = ["Extra", "Shape"]

@@ -15,7 +15,7 @@ Jacobian is ``J = u* u^T + C v* v^T`` (u, v the radial and tangential unit
 vectors at alpha, u*, v* at alpha*), which is Eq. (59) written in vectors.
 
 A point exactly on a crack face is on the polyline's left face (the
-convention of :mod:`efgkit.crack`); split nodes carry their own face.
+convention of :mod:`efgkit.problem.crack`); split nodes carry their own face.
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..crack import Crack, Tip
+from ..problem.crack import Crack, Tip
 
 __all__ = ["TipGeometry", "tip_coordinates", "branch_functions", "williams_modes", "ramp"]
 

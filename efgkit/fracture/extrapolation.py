@@ -40,9 +40,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..crack import Tip
-from ..material import Elastic
-from .fields import rotate_vectors, rotate_voigt
+from ..problem.crack import Tip
+from ..problem.frames import rotate_vectors, rotate_voigt
+from ..problem.material import Elastic
 
 __all__ = ["cod_sif", "k_from_cod", "k_from_stress", "near_tip_sif", "ray_points"]
 
@@ -56,7 +56,7 @@ def _radii(r) -> np.ndarray:
 
 def _tip(tip) -> Tip:
     if not isinstance(tip, Tip):
-        raise TypeError(f"tip must be an efgkit.crack.Tip, got {type(tip).__name__}")
+        raise TypeError(f"tip must be an efgkit.problem.crack.Tip, got {type(tip).__name__}")
     return tip
 
 
@@ -113,7 +113,7 @@ def k_from_stress(tip: Tip, r, stress, theta: float = 0.0,
 
     Examples
     --------
-    >>> from efgkit.fracture.fields import williams_stress
+    >>> from efgkit.problem.exact.williams import williams_stress
     >>> t = Tip(np.zeros(2), 0.0, "c", 1)
     >>> r = np.array([0.01, 0.02])
     >>> KI, KII = k_from_stress(t, r, williams_stress(r, np.pi / 2, 3.0, -1.0), np.pi / 2)
@@ -143,7 +143,7 @@ def near_tip_sif(tip: Tip, r, stress, theta: float = 0.0, n_average: int = 2,
 
     Examples
     --------
-    >>> from efgkit.fracture.fields import williams_stress
+    >>> from efgkit.problem.exact.williams import williams_stress
     >>> t = Tip(np.zeros(2), 0.0, "c", 1)
     >>> r = np.array([0.3, 0.1, 0.2])
     >>> KI, KII = near_tip_sif(t, r, williams_stress(r, 0.0, 2.0, 0.5))
@@ -185,7 +185,7 @@ def k_from_cod(tip: Tip, r, upper, lower, material: Elastic) -> tuple[np.ndarray
 
     Examples
     --------
-    >>> from efgkit.fracture.fields import williams_displacement
+    >>> from efgkit.problem.exact.williams import williams_displacement
     >>> m = Elastic(1.0, 0.3)
     >>> t = Tip(np.zeros(2), 0.0, "c", 1)
     >>> r = np.array([0.1, 0.2])

@@ -6,7 +6,7 @@ elements, or nodes with their volumes for the point-wise evaluation of seed 001
 Eq. 8), the stress ``(n, 3)`` and the displacement gradient ``(n, 2, 2)`` of
 the computed solution there. No discretisation is assumed.
 
-In the tip frame (``x1`` ahead of the tip, :class:`~efgkit.crack.Tip`), with
+In the tip frame (``x1`` ahead of the tip, :class:`~efgkit.problem.crack.Tip`), with
 ``q`` a :class:`~efgkit.fracture.qfunctions.QFunction`, the domain form of J
 (seed 001 Eq. 7; Moran and Shih 1987, seed 003 Sect. 5.6) with the crack-face
 term (derived from seed 001 Eq. 6 by the divergence theorem) is
@@ -26,7 +26,7 @@ integral of the actual field with an auxiliary field (superscript a) is
         - \\int_{C_+ \\cup C_-} t_i u^a_{i,1}\\, q\\,ds
 
 (the auxiliary fields here carry no face traction). With the Williams fields
-of unit ``K_I`` and of unit ``K_II`` (:mod:`efgkit.fracture.fields`),
+of unit ``K_I`` and of unit ``K_II`` (:mod:`efgkit.problem.exact.williams`),
 ``I = 2 K / E'`` (mixed-mode J of seed 003 Sect. 5.6.2), so
 ``K_I = E' I_I / 2`` and ``K_II = E' I_II / 2``, ``E' = E`` in plane stress and
 ``E / (1 - nu^2)`` in plane strain. With the field of a unit point force along
@@ -41,7 +41,7 @@ the faces at the tip make the T integral diverge (``u^a_{1,1} ~ 1/r`` there).
 
 Sign convention: ``K_II > 0`` when the upper face (``theta = +pi``, on the
 left of the crack seen from behind the tip) slides in ``+x1`` relative to the
-lower face, as in :func:`~efgkit.fracture.fields.williams_displacement`
+lower face, as in :func:`~efgkit.problem.exact.williams.williams_displacement`
 (``u_1(+pi) - u_1(-pi) = (kappa + 1) K_II sqrt(r / 2 pi) / mu``). Mirroring a
 field about the crack line flips ``K_II`` and keeps ``K_I``.
 """
@@ -53,9 +53,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..crack import Tip
-from ..material import Elastic, strain_from_gradient
-from .fields import auxiliary_fields, rotate_gradient, rotate_vectors, rotate_voigt, voigt_tensor
+from ..problem.crack import Tip
+from ..problem.frames import rotate_gradient, rotate_vectors, rotate_voigt
+from ..problem.material import Elastic, strain_from_gradient, voigt_tensor
+from .auxiliary_fields import auxiliary_fields
 from .qfunctions import QFunction
 
 __all__ = ["SIF", "FaceLoad", "Integrands", "contract", "domain_integrals", "domain_integrands",
@@ -262,7 +263,7 @@ def domain_integrals(x, w, stress, grad_u, tip: Tip, material: Elastic, q: QFunc
     --------
     Exact mode I field on a polar Gauss rule around a tip at the origin:
 
-    >>> from efgkit.fracture.fields import williams_gradient, williams_stress
+    >>> from efgkit.problem.exact.williams import williams_gradient, williams_stress
     >>> m = Elastic(1.0, 0.25, "stress")
     >>> tr, tw = np.polynomial.legendre.leggauss(16)
     >>> s = (tr + 1) / 2; r = s**2; th = np.pi * tr          # r = s^2 smooths the r^1/2
@@ -319,7 +320,7 @@ def domain_integrands(x, w, stress, grad_u, tip: Tip, material: Elastic, r_max: 
     """The :class:`Integrands` of ``tip`` at the points within ``r_max`` (arguments as in
     :func:`domain_integrals`); raises when the disc holds no points or non-finite values."""
     if not isinstance(tip, Tip):
-        raise TypeError(f"tip must be an efgkit.crack.Tip, got {type(tip).__name__}; take it from "
+        raise TypeError(f"tip must be an efgkit.problem.crack.Tip, got {type(tip).__name__}; take it from "
                         "scene.tips or crack.tip(end)")
     if not isinstance(material, Elastic):
         raise TypeError(f"material must be an Elastic, got {type(material).__name__}")

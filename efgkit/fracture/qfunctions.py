@@ -39,7 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..crack import Tip
+from ..problem.crack import Tip
 
 __all__ = ["KINDS", "QFunction"]
 

@@ -15,7 +15,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..crack import Tip
+from ..problem.crack import FACE_OFFSET, Tip
 from .integrals import SIF, FaceLoad, contract, domain_integrands
 from .qfunctions import QFunction
 
@@ -77,13 +77,13 @@ def _segment_distance(p: np.ndarray, segs: np.ndarray) -> float:
     return float(np.linalg.norm(p - a - t[:, None] * ab, axis=-1).min())
 
 
-def _scene_tip(scene, tip: Tip) -> Tip:
-    from ..scene import Scene
+def scene_tip(scene, tip: Tip) -> Tip:
+    from ..problem.scene import Scene
 
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a Scene, got {type(scene).__name__}")
     if not isinstance(tip, Tip):
-        raise TypeError(f"tip must be an efgkit.crack.Tip, got {type(tip).__name__}; take it from "
+        raise TypeError(f"tip must be an efgkit.problem.crack.Tip, got {type(tip).__name__}; take it from "
                         "scene.tips")
     for t in scene.tips:
         if t.id == tip.id and np.allclose(t.x, tip.x, rtol=0, atol=1e-12 * scene.domain.size):
@@ -92,7 +92,7 @@ def _scene_tip(scene, tip: Tip) -> Tip:
                      f"{[(t.id, t.x.tolist()) for t in scene.tips]}")
 
 
-def _limits(scene, tip: Tip) -> dict[str, float]:
+def tip_limits(scene, tip: Tip) -> dict[str, float]:
     """Distances from the tip to what a J domain must not reach."""
     own = next(c for c in scene.cracks if c.name == tip.crack)
     segs = own.segments[:-1] if tip.end == 1 else own.segments[1:]
@@ -135,14 +135,14 @@ def default_radii(scene, tip: Tip, h: float, multiples=(10.0, 12.5, 15.0)) -> tu
     >>> default_radii(sc, sc.tips[0], 0.02)
     (0.2, 0.25, 0.3)
     """
-    tip = _scene_tip(scene, tip)
+    tip = scene_tip(scene, tip)
     if isinstance(h, bool) or not isinstance(h, (int, float, np.floating)) or not (
             math.isfinite(h) and h > 0):
         raise ValueError(f"h must be a finite spacing > 0, got {h!r}")
     m = np.sort(np.asarray(multiples, dtype=float))
     if m.ndim != 1 or len(m) < 3 or not np.all(np.isfinite(m) & (m > 0)):
         raise ValueError(f"multiples must be at least three positive numbers, got {multiples!r}")
-    free = min(_limits(scene, tip).values())
+    free = min(tip_limits(scene, tip).values())
     radii = m * h
     if radii[-1] > 0.9 * free:
         radii = radii * (0.9 * free / radii[-1])
@@ -169,7 +169,7 @@ def face_loads(scene, tip: Tip, radius: float, gradient, h: float, n: int = 12) 
     of the J integral to rounding (see :class:`FaceLoad`). ``gradient(x, side)``
     returns the displacement gradient (m, 2, 2) at points ``x (m, 2)`` on the
     polyline's left (``side = +1``) or right (-1) face; ``h`` is the local
-    spacing (points sit ``1e-7 h`` off the line on their face).
+    spacing (points sit ``FACE_OFFSET h`` off the line on their face).
     Returns None when the crack carries no pressure.
     """
     crack = next(c for c in scene.cracks if c.name == tip.crack)
@@ -183,7 +183,7 @@ def face_loads(scene, tip: Tip, radius: float, gradient, h: float, n: int = 12) 
     up = 1.0 if tip.end == 1 else -1.0  # the polyline's left face is the tip's upper face
     parts = []
     for side in (1.0, -1.0):
-        xs = x + side * 1e-7 * h * left
+        xs = x + side * FACE_OFFSET * h * left
         parts.append((xs, w, side * crack.pressure * left, gradient(xs, side),
                       np.full(n, side * up)))
     return FaceLoad(*(np.concatenate([p[i] for p in parts]) for i in range(5)))
@@ -196,6 +196,79 @@ def _q_for(q, radius: float) -> QFunction:
             raise TypeError(f"q(radius) must return a QFunction, got {type(out).__name__}")
         return out
     return QFunction(q, radius, n=2.0 if q == "power" else None)
+
+
+def _checked_radii(tip: Tip, radii) -> np.ndarray:
+    """The J-domain radii sorted, ndarray (n_radii,); raises unless at least three, finite and > 0."""
+    try:
+        rs = np.sort(np.asarray(radii, dtype=float).reshape(-1))
+    except (TypeError, ValueError) as err:
+        raise TypeError(f"radii must be a sequence of numbers, got {radii!r}") from err
+    if len(rs) < 3:
+        raise ValueError(f"tip {tip.id}: domain independence needs at least three radii, got "
+                         f"{len(rs)} ({rs.tolist()}); see default_radii")
+    if not np.all(np.isfinite(rs) & (rs > 0)):
+        raise ValueError(f"tip {tip.id}: radii must be finite and > 0, got {rs.tolist()}")
+    return rs
+
+
+def _geometry_notes(scene, tip: Tip, rs: np.ndarray) -> list[str]:
+    """Warning texts (list of str) for the domains of radii ``rs (n_radii,)`` that leave the body,
+    cross another crack, hold another tip or reach a kink of the tip's own crack."""
+    notes = []
+    lim = tip_limits(scene, tip)
+    what = {"boundary": "leaves the body (reaches the domain boundary at {d:.4g})",
+            "crack": "crosses another crack (at {d:.4g})", "tip": "holds another tip (at {d:.4g})",
+            "kink": "reaches a kink of its own crack (at {d:.4g}); the auxiliary fields assume a "
+                    "straight crack"}
+    if lim["tip"] <= lim["crack"] * (1 + 1e-9):  # the other crack is reached at its tip
+        lim["crack"] = math.inf
+    for key, text in what.items():
+        bad = rs[rs > lim[key]]
+        if len(bad):
+            notes.append(f"tip {tip.id}: J domain of radius {bad[0]:.4g} " + text.format(d=lim[key]))
+    return notes
+
+
+def _domain_sifs(x, w, stress, grad_u, tip: Tip, material, rs: np.ndarray, q, q_T,
+                 faces: FaceLoad | None) -> list[SIF]:
+    """The SIF of each radius of ``rs (n_radii,)`` (list of n_radii), T from ``q_T`` unless None
+    or ``q``; one pass over the points of the largest disc serves every domain."""
+    qs = [_q_for(q, float(R)) for R in rs]
+    qs_T = [_q_for(q_T, float(R)) for R in rs] if q_T is not None and q_T != q else None
+    r_max = max(f.r_out for f in qs + (qs_T or []))
+    terms = domain_integrands(x, w, stress, grad_u, tip, material, r_max)
+    doms = [contract(terms, f, faces) for f in qs]
+    if qs_T is not None:
+        doms = [replace(d, T=contract(terms, f, faces).T) for d, f in zip(doms, qs_T, strict=True)]
+    return doms
+
+
+def _k_spread(doms: list[SIF]) -> tuple[np.ndarray, np.ndarray, float]:
+    """K_I and K_II of the domains, ndarray (n_domains,) each, and their spread (:attr:`TipResult.spread`)."""
+    KI = np.array([d.KI for d in doms])
+    KII = np.array([d.KII for d in doms])
+    norm = math.hypot(np.mean(KI), np.mean(KII)) or float(np.max(np.hypot(KI, KII)))
+    rng = max(float(np.ptp(KI)), float(np.ptp(KII)))
+    spread = rng / norm if norm > 0 else 0.0
+    return KI, KII, spread
+
+
+def _quality_notes(scene, tip: Tip, rs: np.ndarray, doms: list[SIF], KI: np.ndarray, KII: np.ndarray,
+                   spread: float, spread_tol: float, mismatch_tol: float) -> list[str]:
+    """Warning texts (list of str) for a spread over ``spread_tol`` and a stress / grad_u
+    mismatch over ``mismatch_tol``; ``rs, KI, KII`` ndarray (n_domains,)."""
+    notes = []
+    if spread > spread_tol:
+        notes.append(f"tip {tip.id}: K depends on the domain: spread {spread:.3g} > spread_tol "
+                     f"{spread_tol:g} over radii {np.round(rs, 6).tolist()} (K_I "
+                     f"{np.round(KI, 6).tolist()}, K_II {np.round(KII, 6).tolist()})")
+    worst = max(d.mismatch for d in doms)
+    if worst > mismatch_tol:
+        notes.append(f"tip {tip.id}: stress and grad_u disagree through the material by "
+                     f"{worst:.3g} (> mismatch_tol {mismatch_tol:g}); check the plane "
+                     f"({scene.material.plane!r}) and that the stress comes from grad_u")
+    return notes
 
 
 def tip_result(scene, tip: Tip, x, w, stress, grad_u, radii, q="wendland_c2",
@@ -259,7 +332,7 @@ def tip_result(scene, tip: Tip, x, w, stress, grad_u, radii, q="wendland_c2",
     polar Gauss rule (as in :func:`~efgkit.fracture.integrals.domain_integrals`):
 
     >>> from efgkit import Crack, Domain, Elastic, Scene
-    >>> from efgkit.fracture.fields import williams_gradient, williams_stress
+    >>> from efgkit.problem.exact.williams import williams_gradient, williams_stress
     >>> sc = Scene(Domain.rectangle(-1, -1, 1, 1), Elastic(1.0, 0.3),
     ...            cracks=(Crack([[-1.0, 0.0], [0.0, 0.0]], tips=(False, True)),))
     >>> t, tw = np.polynomial.legendre.leggauss(24)
@@ -276,50 +349,12 @@ def tip_result(scene, tip: Tip, x, w, stress, grad_u, radii, q="wendland_c2",
     (The rule is one Gauss block over ``r < 0.8``, so the kink of ``q`` at
     ``r_out < 0.8`` costs ~3e-4; tests split the rule there and get 1e-12.)
     """
-    tip = _scene_tip(scene, tip)
-    try:
-        rs = np.sort(np.asarray(radii, dtype=float).reshape(-1))
-    except (TypeError, ValueError) as err:
-        raise TypeError(f"radii must be a sequence of numbers, got {radii!r}") from err
-    if len(rs) < 3:
-        raise ValueError(f"tip {tip.id}: domain independence needs at least three radii, got "
-                         f"{len(rs)} ({rs.tolist()}); see default_radii")
-    if not np.all(np.isfinite(rs) & (rs > 0)):
-        raise ValueError(f"tip {tip.id}: radii must be finite and > 0, got {rs.tolist()}")
-    notes = []
-    lim = _limits(scene, tip)
-    what = {"boundary": "leaves the body (reaches the domain boundary at {d:.4g})",
-            "crack": "crosses another crack (at {d:.4g})", "tip": "holds another tip (at {d:.4g})",
-            "kink": "reaches a kink of its own crack (at {d:.4g}); the auxiliary fields assume a "
-                    "straight crack"}
-    if lim["tip"] <= lim["crack"] * (1 + 1e-9):  # the other crack is reached at its tip
-        lim["crack"] = math.inf
-    for key, text in what.items():
-        bad = rs[rs > lim[key]]
-        if len(bad):
-            notes.append(f"tip {tip.id}: J domain of radius {bad[0]:.4g} " + text.format(d=lim[key]))
-    qs = [_q_for(q, float(R)) for R in rs]
-    qs_T = [_q_for(q_T, float(R)) for R in rs] if q_T is not None and q_T != q else None
-    # one pass over the points of the largest disc serves every domain
-    r_max = max(f.r_out for f in qs + (qs_T or []))
-    terms = domain_integrands(x, w, stress, grad_u, tip, scene.material, r_max)
-    doms = [contract(terms, f, faces) for f in qs]
-    if qs_T is not None:
-        doms = [replace(d, T=contract(terms, f, faces).T) for d, f in zip(doms, qs_T, strict=True)]
-    KI = np.array([d.KI for d in doms])
-    KII = np.array([d.KII for d in doms])
-    norm = math.hypot(np.mean(KI), np.mean(KII)) or float(np.max(np.hypot(KI, KII)))
-    rng = max(float(np.ptp(KI)), float(np.ptp(KII)))
-    spread = rng / norm if norm > 0 else 0.0
-    if spread > spread_tol:
-        notes.append(f"tip {tip.id}: K depends on the domain: spread {spread:.3g} > spread_tol "
-                     f"{spread_tol:g} over radii {np.round(rs, 6).tolist()} (K_I "
-                     f"{np.round(KI, 6).tolist()}, K_II {np.round(KII, 6).tolist()})")
-    worst = max(d.mismatch for d in doms)
-    if worst > mismatch_tol:
-        notes.append(f"tip {tip.id}: stress and grad_u disagree through the material by "
-                     f"{worst:.3g} (> mismatch_tol {mismatch_tol:g}); check the plane "
-                     f"({scene.material.plane!r}) and that the stress comes from grad_u")
+    tip = scene_tip(scene, tip)
+    rs = _checked_radii(tip, radii)
+    notes = _geometry_notes(scene, tip, rs)
+    doms = _domain_sifs(x, w, stress, grad_u, tip, scene.material, rs, q, q_T, faces)
+    KI, KII, spread = _k_spread(doms)
+    notes += _quality_notes(scene, tip, rs, doms, KI, KII, spread, spread_tol, mismatch_tol)
     for text in notes:
         warnings.warn(text, UserWarning, stacklevel=2)
     return TipResult(tip=tip, KI=float(np.mean(KI)), KII=float(np.mean(KII)),

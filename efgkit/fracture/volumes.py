@@ -25,7 +25,7 @@ def nodal_volumes(x, domain, method: str = "voronoi", samples_per_node: int = 64
     ----------
     x : ndarray (n, 2)
         Nodes.
-    domain : efgkit.geometry.Domain
+    domain : efgkit.problem.geometry.Domain
     method : {"voronoi", "uniform"}
     samples_per_node : int
 
@@ -35,7 +35,7 @@ def nodal_volumes(x, domain, method: str = "voronoi", samples_per_node: int = 64
 
     Examples
     --------
-    >>> from efgkit.geometry import Domain
+    >>> from efgkit.problem.geometry import Domain
     >>> g = (np.arange(4) + 0.5) / 4
     >>> nodes = np.column_stack([a.ravel() for a in np.meshgrid(g, g)])
     >>> V = nodal_volumes(nodes, Domain.rectangle(0, 0, 1, 1))

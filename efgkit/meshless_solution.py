@@ -1,0 +1,214 @@
+"""The result of a meshless (EFG) solve: MLS coefficients and the fields they define."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .methods.discretize import Discretization, crack_mouths
+from .problem.crack import FACE_OFFSET
+from .problem.material import strain_from_gradient, voigt_tensor
+from .solution import Solution
+
+__all__ = ["MeshlessSolution"]
+
+
+@dataclass(frozen=True, eq=False)
+class MeshlessSolution(Solution):
+    """Scene + discretisation + MLS coefficients: the :class:`~efgkit.solution.Solution`
+    of the meshless methods.
+
+    The coefficients ``coeffs (n_dofs,)`` (node-major, interleaved, then any
+    enrichment unknowns) are MLS parameters, not nodal displacements: evaluate
+    fields with the methods.
+
+    Attributes
+    ----------
+    disc : Discretization
+    coeffs : ndarray, shape (n_dofs,)
+        2 per node (interleaved), then the enrichment unknowns.
+    info : dict
+        Solver information (solver, residual, iterations).
+    timings : dict
+        Seconds per stage, discretisation included.
+    """
+
+    disc: Discretization
+    coeffs: np.ndarray
+    info: dict = field(default_factory=dict)
+    timings: dict = field(default_factory=dict)
+
+    discretization_figure = "nodes"
+
+    @property
+    def kind(self) -> str:
+        return "efg"
+
+    @property
+    def scene(self):
+        return self.disc.scene
+
+    @property
+    def method(self):
+        return self.disc.method
+
+    @property
+    def nodes(self):
+        return self.disc.nodes
+
+    def _fields(self, x, derivatives):
+        if x is None:
+            return self.disc.shape
+        x = self.scene.domain.field_points(x)
+        return self.disc.shape_at(x, derivatives=derivatives)
+
+    def displacement(self, x=None) -> np.ndarray:
+        """Displacement at points ``x (n, 2)`` (default: the quadrature points), shape (n, 2)."""
+        return self._fields(x, derivatives=False).displacement(self.coeffs)
+
+    def gradient(self, x=None) -> np.ndarray:
+        """Displacement gradient du_i/dx_j at points ``x (n, 2)``, shape (n, 2, 2)."""
+        return self._fields(x, derivatives=True).gradient(self.coeffs)
+
+    def strain(self, x=None) -> np.ndarray:
+        """Strain (xx, yy, xy engineering) at points ``x (n, 2)``, shape (n, 3)."""
+        return self._fields(x, derivatives=True).strain(self.coeffs)
+
+    def tip_spacing(self, tip) -> float:
+        """The nodal spacing at a tip: c_I = d_mI / d_max of the node nearest to it."""
+        nodes = self.nodes
+        k = int(np.argmin(np.hypot(*(nodes.x - tip.x).T)))
+        return float(nodes.radius[k] / self.method.d_max)
+
+    def sifs(self, radii=None, q="wendland_c2", spread_tol: float = 0.01) -> tuple:
+        """K_I, K_II, J and T of every crack tip, from interaction integrals over domains.
+
+        The integrals (:mod:`efgkit.fracture.integrals`) run over the domain
+        quadrature points, with the crack-face pressure term when the crack
+        is pressurised; each tip's result is the mean over the domains with
+        its spread (:func:`efgkit.fracture.sif.tip_result`).
+
+        Parameters
+        ----------
+        radii : sequence of float, or callable ``tip -> radii``, optional
+            Domain radii (default: :func:`~efgkit.fracture.sif.default_radii`
+            with the spacing at the tip).
+        q : str or callable
+            q-function kind (see :class:`~efgkit.fracture.qfunctions.QFunction`).
+        spread_tol : float
+            Relative spread of K over the domains above which a warning is issued.
+
+        Returns
+        -------
+        tuple of TipResult, one per tip of ``scene.tips``.
+        """
+        from .fracture.sif import face_loads, tip_radii, tip_result
+
+        x, w = self.disc.points.x, self.disc.points.w
+        grad = self.gradient()
+        stress = strain_from_gradient(grad) @ self.scene.material.D.T  # no second pass
+        enr = self.disc.approx.enrichment
+        out = []
+        for k, tip in enumerate(self.scene.tips):
+            h = self.tip_spacing(tip)
+            rs = tip_radii(self.scene, tip, radii, h)
+            faces = face_loads(self.scene, tip, max(rs), lambda xs, side: self.gradient(xs), h)
+            kk = None
+            if enr is not None and enr.kind == "extrinsic_mls":
+                kk = tuple(self.coeffs[2 * self.nodes.n + 2 * k: 2 * self.nodes.n + 2 * k + 2])
+            out.append(tip_result(self.scene, tip, x, w, stress, grad, rs, q=q, faces=faces,
+                                  spread_tol=spread_tol, enriched=kk))
+        return tuple(out)
+
+    def near_tip_estimates(self, tip, r=None) -> dict:
+        """Quick estimates of (K_I, K_II) at a tip, for comparison with :meth:`sifs`.
+
+        ``"stress_0"`` and ``"stress_90"``: from the stresses on the rays theta = 0 and
+        90 degrees, averaged over the two points nearest the tip (seed 000 Eqs. 5.2-5.5);
+        ``"cod"``: the crack-opening displacement behind the tip extrapolated to r = 0
+        (:mod:`efgkit.fracture.extrapolation`). ``r`` are the sample distances (default:
+        1 to 6 spacings at the tip).
+        """
+        from .fracture.extrapolation import cod_sif, near_tip_sif, ray_points
+
+        h = self.tip_spacing(tip)
+        r = h * np.arange(1.0, 7.0) if r is None else np.asarray(r, dtype=float)
+        up = tip.rotation[1]  # e2 of the tip frame: the upper face's side
+        face = {s: self.displacement(ray_points(tip, r, np.pi) + s * FACE_OFFSET * h * up)
+                for s in (1.0, -1.0)}
+        return {"stress_0": near_tip_sif(tip, r, self.stress(ray_points(tip, r, 0.0)), 0.0),
+                "stress_90": near_tip_sif(tip, r, self.stress(ray_points(tip, r, np.pi / 2)),
+                                          np.pi / 2),
+                "cod": cod_sif(tip, r, face[1.0], face[-1.0], self.scene.material)}
+
+    def strain_energy(self) -> float:
+        """U = 1/2 int eps : sigma dOmega over the domain quadrature."""
+        eps = self.strain()
+        return 0.5 * float(np.sum(self.disc.points.w * np.einsum("ni,ij,nj->n", eps,
+                                                                  self.scene.material.D, eps)))
+
+    def errors(self, exact=None) -> dict:
+        """Relative L2 displacement and energy-norm errors against an exact field.
+
+        Energy norm as seed 003 Eq. (36): [1/2 int (sigma - sigma^h):(eps - eps^h)]^(1/2),
+        divided by the same norm of the exact field. ``exact`` defaults to ``scene.exact``.
+
+        Returns
+        -------
+        dict with ``l2`` and ``energy`` (relative) and the absolute ``energy_abs``.
+        """
+        from .problem.exact.fields import field_errors
+
+        return field_errors(exact, self.scene, self.disc.points.x, self.disc.points.w,
+                            self.displacement(), self.strain())
+
+    def reaction(self, edge) -> np.ndarray:
+        """Force ``(2,)`` the supports of ``edge`` apply to the body: ``int sigma n ds``.
+
+        The traction ``sigma n`` (outward normal) is integrated by the Gauss rule of the
+        essential conditions along the edge (name or mask ``x (n, 2) -> bool (n,)`` over
+        its boundary quadrature points), so it carries the discretisation error of the
+        boundary stresses.
+        """
+        from .quadrature.boundary import boundary_points
+
+        scene, m = self.scene, self.method
+        if isinstance(edge, str) and edge not in scene.domain.edge_names:
+            raise ValueError(f"no edge named {edge!r}; the domain's edges are "
+                             f"{sorted(scene.domain.edge_names)}")
+        pts = boundary_points(scene.domain, edge, max(m.order, 2), m.spacing, crack_mouths(scene))
+        if pts.n == 0:
+            return np.zeros(2)
+        t = np.einsum("nij,nj->ni", voigt_tensor(self.stress(pts.x)), pts.normal)
+        return pts.w @ t
+
+    def write_vtu(self, path, n_target: int | None = None):
+        """Fields on :func:`~efgkit.io.sample_grid` (``n_target`` points, default 20 000) and
+        the node cloud beside them (:func:`efgkit.io.write_vtu`); returns the field file."""
+        from .io import nodes_path, write_nodes_vtu
+        from .io import write_vtu as write_fields
+
+        path = write_fields(self, path, 20000 if n_target is None else n_target)
+        write_nodes_vtu(self.nodes, nodes_path(path))
+        return path
+
+    def plot_stress(self, component: str = "von_mises", ax=None, levels: int = 30, limits=None,
+                    n_target: int | None = None):
+        """Filled contours of a stress component on the sample grid
+        (:func:`efgkit.plot.plot_stress`); returns the figure."""
+        from .plot import plot_stress
+
+        return plot_stress(self, component, ax, n_target=20000 if n_target is None else n_target,
+                           levels=levels, limits=limits)
+
+    def plot_discretization(self, ax=None):
+        """The node cloud with supports (:func:`efgkit.plot.plot_nodes`); returns the figure."""
+        from .plot import plot_nodes
+
+        return plot_nodes(self, ax=ax)
+
+    def sizes(self) -> dict:
+        return {"n_nodes": self.nodes.n, "n_boundary_nodes": int(self.nodes.boundary.sum()),
+                "n_dofs": len(self.coeffs)}
+

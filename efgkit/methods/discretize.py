@@ -1,0 +1,305 @@
+"""Scene + EFG -> nodes, quadrature points and shape functions.
+
+Only what the scene needs is built: derivatives at domain points (the
+stiffness needs them), values alone at traction points, and the modified-MLS
+interpolation only for nodes on essential edges when ``bc="modified_mls"``.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..approx.approximation import Approximation
+from ..approx.crack_rules import CrackLines, CrackRule
+from ..approx.enrichment import INTRINSIC, Enrichment
+from ..approx.hole_rules import Holes
+from ..approx.shape import Shape
+from ..approx.tip_functions import TipGeometry
+from ..nodes import NodeCloud, generate_nodes
+from ..problem.geometry import Domain, Edge
+from ..problem.scene import Scene
+from ..quadrature.cells import cell_points, triangle_points
+from ..quadrature.rules import Points
+from ..search import BoxGrid
+from .efg import EFG
+
+__all__ = ["Discretization", "discretize", "support_edges", "crack_mouths"]
+
+
+@dataclass(frozen=True, eq=False)
+class Discretization:
+    """Everything the solvers need from the discretisation of a scene.
+
+    Attributes
+    ----------
+    scene : Scene; method : EFG
+    nodes : NodeCloud
+    points : Points
+        Domain quadrature points ``x (n_points, 2)`` and weights.
+    shape : Shape
+        Shape functions with derivatives at ``points``.
+    approx : Approximation
+        The trial functions (nodes, search structure, crack rule,
+        enrichment): evaluates shape functions at any points.
+    timings : dict
+        Seconds per stage.
+    """
+
+    scene: Scene
+    method: EFG
+    nodes: NodeCloud
+    points: Points
+    shape: Shape
+    approx: Approximation
+    timings: dict = field(default_factory=dict)
+
+    @property
+    def interpolate(self) -> np.ndarray | None:
+        """Nodes with the Kronecker-delta property (modified MLS only)."""
+        return self.approx.interpolate
+
+    @property
+    def boxes(self) -> BoxGrid:
+        return self.approx.boxes
+
+    @property
+    def n_dofs(self) -> int:
+        """Unknowns of the trial space: 2 per node plus the enrichment unknowns."""
+        return self.approx.n_dofs
+
+    def shape_at(self, x: np.ndarray, derivatives: bool = True) -> Shape:
+        """Shape functions of this discretisation at points ``x (n, 2)``."""
+        return self.approx.shape(x, derivatives=derivatives)
+
+
+def support_edges(domain: Domain, where) -> list[Edge]:
+    """Edges selected by a support/traction ``where`` (a name, or all edges for a callable)."""
+    return domain.edges(where) if isinstance(where, str) else domain.edges()
+
+
+def _nodes_on(edge: Edge, x: np.ndarray, tol: float) -> np.ndarray:
+    """Mask of points ``x (n, 2)`` within ``tol`` of ``edge``."""
+    p = edge.polyline()
+    a, b = p[:-1], p[1:]
+    best = np.full(len(x), np.inf)
+    for k in range(0, len(a), 256):
+        aa, ab = a[None, k:k + 256], (b - a)[None, k:k + 256]
+        t = np.clip(np.sum((x[:, None] - aa) * ab, -1) / np.sum(ab * ab, -1), 0, 1)
+        d = np.linalg.norm(x[:, None] - aa - t[..., None] * ab, axis=-1).min(axis=1)
+        best = np.minimum(best, d)
+    return best <= tol
+
+
+def crack_mouths(scene: Scene) -> np.ndarray:
+    """The crack ends on the boundary (not tips), shape (b, 2): boundary rules break there."""
+    pts = [c.vertices[-1 if e else 0] for c in scene.cracks for e in (0, 1) if not c.tips[e]]
+    return np.array(pts).reshape(-1, 2)
+
+
+def essential_nodes(scene: Scene, nodes: NodeCloud, spacing: float) -> np.ndarray:
+    """Nodes lying on an edge that carries a support, shape (n_nodes,) bool."""
+    on = np.zeros(nodes.n, bool)
+    tol = 1e-6 * spacing
+    for sup in scene.supports:
+        for e in support_edges(scene.domain, sup.edge):
+            hit = _nodes_on(e, nodes.x, tol)
+            if callable(sup.edge):
+                hit &= np.asarray(sup.edge(nodes.x), bool)
+            on |= hit
+    return on
+
+
+def discretize(scene: Scene, method: EFG) -> Discretization:
+    """Nodes, domain quadrature and shape functions of ``scene`` under ``method``.
+
+    Examples
+    --------
+    >>> from efgkit import Domain, EFG, Elastic, Scene, Support
+    >>> scene = Scene(Domain.rectangle(0, 0, 1, 1), Elastic(1.0, 0.3),
+    ...               supports=(Support("left", ux=0.0, uy=0.0),))
+    >>> d = discretize(scene, EFG(spacing=0.25))
+    >>> d.nodes.n, round(float(d.points.w.sum()), 12)
+    (25, 1.0)
+    """
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene must be a Scene, got {type(scene).__name__}")
+    if not isinstance(method, EFG):
+        raise TypeError(f"method must be an EFG description, got {type(method).__name__}")
+    timings = {}
+    t0 = time.perf_counter()
+    nodes = generate_nodes(scene.domain, method, scene.cracks)
+    interpolate = None
+    if method.bc == "modified_mls":
+        warnings.warn(
+            "bc='modified_mls' (seed 002): the interpolation constraints switch on where a point "
+            "enters an essential-boundary node's support, so the shape functions are "
+            "discontinuous there and the EFG weak form is not consistent (patch-test error "
+            "~1e-1, docs/theory.md). Prefer 'lagrange' or 'variational' for EFG.",
+            UserWarning, stacklevel=2)
+        interpolate = essential_nodes(scene, nodes, method.spacing)
+        nodes = _interpolating_supports(nodes, interpolate)
+    timings["nodes"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    if method.quadrature == "cells":
+        points = cell_points(scene.domain, method.cell_size or method.spacing, method.order,
+                             zones=method.zones + tip_zones(scene, method),
+                             refined_order=method.refined_order, cracks=scene.cracks,
+                             tip_rays=shadow_rays(scene, nodes), tip_order=method.tip_order)
+    else:
+        points = triangle_points(scene.domain, nodes.x, method.order)
+    timings["quadrature"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    approx = approximation(scene, method, nodes, interpolate)
+    order = np.argsort(approx.boxes.box_of(points.x), kind="stable")  # locality for the kernels
+    points = Points(points.x[order], points.w[order],
+                    None if points.owner is None else points.owner[order])
+    timings["search"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    shape = approx.shape(points.x)
+    timings["shape"] = time.perf_counter() - t0
+    return Discretization(scene, method, nodes, points, shape, approx, timings)
+
+
+def tip_zones(scene: Scene, method: EFG) -> tuple:
+    """Quadrature zones around the crack tips: cells within max(2 h, the intrinsic enrichment
+    radius) of a tip are split in 2 x 2 and use ``method.refined_order`` (the cells holding
+    the tip itself get the fan rule of order ``method.tip_order``)."""
+    from .efg import Zone
+
+    h = method.cell_size or method.spacing
+    radius = 2.0 * h
+    if method.enrichment in INTRINSIC:
+        radius = max(radius, method.ramp_outer)
+    return tuple(Zone(tuple(t.x), radius, h / 2) for t in scene.tips)
+
+
+def shadow_rays(scene: Scene, nodes: NodeCloud) -> list[np.ndarray]:
+    """For every tip, the directions ``tip - x_I (k, 2)`` of the nodes whose support holds
+    it: the rays through the tip where the crack rules put kinks in the weights."""
+    rays = []
+    for tip in scene.tips:
+        d = tip.x - nodes.x
+        r = np.hypot(*d.T)
+        rays.append(d[(r < nodes.radius) & (r > 1e-9 * nodes.radius)])
+    return rays
+
+
+def approximation(scene: Scene, method: EFG, nodes: NodeCloud,
+                  interpolate: np.ndarray | None = None) -> Approximation:
+    """The trial functions of ``method`` on ``nodes`` for ``scene`` (crack rule, enrichment)."""
+    lines = rule = enrichment = None
+    if scene.cracks:
+        lines = CrackLines.from_cracks(scene.cracks)
+        rule = CrackRule(method.crack_rule, method.rule_power, method.kappa, method.spacing)
+        if method.crack_rule == "transparency":
+            _warn_close_to_crack(nodes, lines, method.spacing, method.enrichment)
+        if method.enrichment != "none":
+            # The sqrt(r) basis has no angular discontinuity and needs no smoothing (seed 003
+            # Sect. 5.3.2); with it visibility is the more accurate rule (singular patch).
+            if method.crack_rule == "visibility" and method.enrichment != "radial":
+                raise ValueError(
+                    f"enrichment={method.enrichment!r} with crack_rule='visibility' is not "
+                    "supported: visibility makes the shape functions jump along the rays from "
+                    "the nodes through the tip, and with the singular field in the trial space "
+                    "those jumps act as extra cracks at the tip (extrinsic K_I 0.92, 0.39, -0.03 "
+                    "on 9, 17, 25 node grids of the singular patch, docs/theory.md). Use "
+                    "crack_rule='diffraction' (seed 003 uses it with enrichment), "
+                    "'transparency' or 'see_through'; of the enrichments only 'radial' works "
+                    "with visibility.")
+            if method.crack_rule == "see_through" and method.enrichment in INTRINSIC:
+                raise ValueError(
+                    f"enrichment={method.enrichment!r} with crack_rule='see_through' is not "
+                    "supported: see-through lets the nodes whose supports hold the tip see across "
+                    "the crack, and the ramped linear part of an intrinsic basis then shortens the "
+                    "crack as see-through does alone (seed 003 Sect. 4.4; singular patch energy "
+                    "error 0.76-1.1 against 0.28 with diffraction). Use crack_rule='diffraction', "
+                    "or an extrinsic enrichment, which works with see-through.")
+            tips = [TipGeometry.of(c, e) for c in scene.cracks for e in (0, 1) if c.tips[e]]
+            r2 = method.ramp_outer
+            if method.enrichment == "extrinsic_mls":
+                r2 = method.enrich_radius if method.enrich_radius is not None else np.inf
+                if not np.isfinite(r2):
+                    _check_global_fields(scene)
+            enrichment = Enrichment.build(method.enrichment, tips, nodes, scene.material,
+                                          method.ramp_inner, r2, method.ramp, method.pu_radius)
+    elif method.enrichment != "none":
+        raise ValueError(f"enrichment={method.enrichment!r} needs a crack tip, but scene "
+                         f"{scene.name!r} has no cracks; use enrichment='none'")
+    holes = Holes.of(scene.domain) if method.hole_rule != "see_through" and scene.domain.holes \
+        else None
+    if holes is not None and rule is None:
+        rule = CrackRule("diffraction", method.rule_power, method.kappa, method.spacing)
+    return Approximation(nodes, BoxGrid.build(nodes), method.weight, method.basis, method.d_max,
+                         method.alpha, method.spacing, interpolate, lines, rule, enrichment,
+                         holes, method.hole_rule)
+
+
+def _check_global_fields(scene: Scene) -> None:
+    """Unramped extrinsic fields jump along the whole line behind their tip (theta = +-pi,
+    mapped at one kink): that line must be the crack itself up to the boundary."""
+    for c in scene.cracks:
+        if all(c.tips) or len(c.vertices) > 3:
+            why = ("has two tips, so the line behind each runs past the other tip into the body"
+                   if all(c.tips) else "has more than one kink (the map of seed 003 Sect. 5.5 "
+                   "follows one)")
+            raise ValueError(
+                f"enrichment='extrinsic_mls' without enrich_radius uses the Williams fields over "
+                f"the whole body, but crack {c.name!r} {why}: the fields would jump inside the "
+                "material (measured: K_I 13% low on an inclined Griffith crack). Give "
+                "enrich_radius (smaller than the crack length) to ramp them to zero.")
+
+
+def _warn_close_to_crack(nodes: NodeCloud, lines: CrackLines, h: float, enrichment: str) -> None:
+    """Seed 003 Sect. 4.3: transparency needs nodes at least h/4 from the crack surface
+    (split face nodes included; nodes at a tip excepted): a warning, and an error with an
+    extrinsic enrichment, which such nodes spoil."""
+    close = lines.distance(nodes.x) < 0.25 * h
+    for tip in lines.tip_positions():
+        close &= np.hypot(*(nodes.x - tip).T) > 1e-6 * h
+    if close.any() and enrichment in ("extrinsic_mls", "pu"):
+        raise ValueError(
+            f"enrichment={enrichment!r} with crack_rule='transparency' and {int(close.sum())} "
+            f"node(s) closer than h/4 to a crack surface is not supported: such nodes cannot see "
+            "ahead of the tip across the crack line's extension (seed 003 Sect. 4.3), which the "
+            "enriched fields turn into a wrong K (extrinsic K_I 0.62 on the singular patch). Put "
+            "the crack between node rows or use crack_rule='diffraction'.")
+    if close.any():
+        k = int(np.flatnonzero(close)[0])
+        warnings.warn(
+            f"crack_rule='transparency': {int(close.sum())} node(s) lie closer than h/4 = "
+            f"{0.25 * h:g} to a crack surface (e.g. node {k} at {nodes.x[k].tolist()}); seed 003 "
+            "Sect. 4.3 advises against it: such a node's weight has a trough ahead of the tip, "
+            "and a node on the crack line cannot see below the line's extension, so the shape "
+            "functions jump ahead of the tip. Put the crack between node rows or use another "
+            "crack rule.", UserWarning, stacklevel=3)
+
+
+def _interpolating_supports(nodes: NodeCloud, interp: np.ndarray) -> NodeCloud:
+    """Shrink supports of interpolating nodes to their nearest interpolating neighbour.
+
+    Seed 002 (text after Eq. 18) needs no more interpolation nodes in a support
+    than the basis can interpolate; a support reaching only the adjacent
+    boundary nodes gives at most two per straight edge, and u^h along the
+    edge is then the linear interpolant of the prescribed values.
+    """
+    from scipy.spatial import cKDTree
+
+    r = nodes.radius.copy()
+    xb = nodes.x[interp]
+    if len(xb) >= 2:
+        d, _ = cKDTree(xb).query(xb, k=2)
+        r[interp] = np.minimum(r[interp], d[:, 1] * (1 - 1e-9))  # neighbour itself excluded
+    return NodeCloud(nodes.x, r, nodes.boundary)
+
+
+def boundary_segments_for(edge: Edge, nodes: NodeCloud, spacing: float) -> int:
+    """Number of equal-parameter pieces of the boundary rules (and Lagrange-multiplier hats)
+    on ``edge``: at least one per node interval on it."""
+    on = _nodes_on(edge, nodes.x, 1e-6 * spacing)
+    positions = len(np.unique(np.round(nodes.x[on] / spacing, 6), axis=0))  # split copies once
+    return max(1, math.ceil(edge.length / spacing - 1e-9), positions - 1)

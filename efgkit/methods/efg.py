@@ -1,0 +1,253 @@
+"""Discretisation descriptions: what a method is, not what it computes.
+
+:class:`EFG` holds every discretisation choice of the Element-Free Galerkin
+method (seed 003 Sects. 2-3); :class:`Zone` is a graded-refinement region.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["EFG", "Zone", "Rosette", "WEIGHTS", "BASES", "BC_METHODS", "QUADRATURES", "SOLVERS",
+           "CRACK_RULES", "HOLE_RULES", "ENRICHMENTS", "RAMPS"]
+
+WEIGHTS = ("quartic", "gaussian", "cubic")
+BASES = ("linear", "quadratic")
+BC_METHODS = ("penalty", "lagrange", "variational", "modified_mls")
+QUADRATURES = ("cells", "triangles")
+SOLVERS = ("auto", "direct", "amg")
+CRACK_RULES = ("visibility", "diffraction", "transparency", "see_through")
+HOLE_RULES = ("see_through", "visibility", "diffraction")
+ENRICHMENTS = ("none", "radial", "full", "extrinsic_mls", "pu")
+RAMPS = ("linear", "quintic")
+
+
+def _positive(name, v, integer=False):
+    ok = isinstance(v, (int, np.integer)) if integer else isinstance(v, (int, float, np.number))
+    if isinstance(v, bool) or not ok:
+        raise TypeError(f"{name} must be {'an integer' if integer else 'a real number'}, got {v!r}")
+    if not (math.isfinite(v) and v > 0):
+        raise ValueError(f"{name} must be finite and > 0, got {v!r}")
+
+
+def _choice(name, v, options):
+    if v not in options:
+        raise ValueError(f"{name} must be one of {options}, got {v!r}")
+
+
+@dataclass(frozen=True)
+class Zone:
+    """Graded refinement: nodal spacing ``spacing`` inside the disc (``centre``, ``radius``).
+
+    Quadrature cells inside the zone use the zone spacing and ``EFG.refined_order``.
+    """
+
+    centre: tuple[float, float]
+    radius: float
+    spacing: float
+
+    def __post_init__(self):
+        c = tuple(float(v) for v in np.asarray(self.centre, dtype=float).reshape(2))
+        if not all(map(math.isfinite, c)):
+            raise ValueError(f"zone centre must be finite, got {self.centre!r}")
+        object.__setattr__(self, "centre", c)
+        _positive("zone radius", self.radius)
+        _positive("zone spacing", self.spacing)
+
+
+@dataclass(frozen=True)
+class Rosette:
+    """Star-shaped node array around every crack tip (seed 003 Sect. 2.2, Fig. 29).
+
+    ``rings`` rings of radii ``radius k / rings`` (k = 1..rings), each of
+    ``per_ring`` nodes counted as in the seed (the node on the crack faces
+    counts twice, once per face), and a node at the tip. Background nodes
+    inside the rosette are switched off; the rosette moves with the tip.
+    """
+
+    radius: float
+    rings: int = 4
+    per_ring: int = 9
+
+    def __post_init__(self):
+        _positive("rosette radius", self.radius)
+        _positive("rosette rings", self.rings, integer=True)
+        _positive("rosette per_ring", self.per_ring, integer=True)
+        if self.per_ring < 4:
+            raise ValueError(f"rosette per_ring must be >= 4 (three distinct angles and the "
+                             f"split face node), got {self.per_ring!r}")
+
+
+@dataclass(frozen=True, eq=False)
+class EFG:
+    """Element-Free Galerkin discretisation (seed 003).
+
+    Parameters
+    ----------
+    spacing : float
+        Nodal spacing h of the regular grid (the user's length unit).
+    zones : tuple of Zone
+        Graded refinement zones.
+    perturb : float
+        Random perturbation of interior nodes, as a fraction of the local
+        spacing (0: regular grid); drawn from ``np.random.default_rng(seed)``.
+    seed : int
+        Seed of the perturbation.
+    coordinates : array_like (n, 2), optional
+        User-given nodes; replaces the generated cloud.
+    d_max : float
+        Support radius factor, seed 003 Eq. (2): d_mI = d_max c_I, with c_I
+        the distance to the 2nd (regular) or 3rd (perturbed/user) nearest
+        neighbour.
+    weight : {"quartic", "gaussian", "cubic"}
+        Seed 003 Eq. (1b), Eq. (1a) with c = alpha c_I (Eq. 3), or the cubic spline.
+    alpha : float
+        Gaussian shape parameter (Eq. 3); the seed advises d_max / alpha >= 4.
+    basis : {"linear", "quadratic"}
+        Polynomial basis, seed 003 Eq. (5c-d).
+    quadrature : {"cells", "triangles"}
+        Background square cells clipped to the domain, or the cells of a
+        triangulation of the nodes.
+    order : int
+        Gauss points per direction in a cell (triangles: a rule exact to
+        degree 2 * order - 1).
+    refined_order : int
+        The same in refinement zones.
+    cell_size : float, optional
+        Background cell size (default: ``spacing``).
+    bc : {"penalty", "lagrange", "variational", "modified_mls"}
+        Essential boundary conditions: penalty (seed 003 Eq. 28), Lagrange
+        multipliers (Eq. 26), modified variational principle (Eq. 27,
+        ``"variational"``, Nitsche-stabilised) or the modified MLS of seed 002 (Eqs. 6-19).
+    penalty : float, optional
+        bc="penalty": beta in units of E / h (default 1e3). The consistency
+        error falls like E / (beta h) but large beta over-constrains the
+        boundary (locking): see docs/theory.md.
+        bc="variational": the Nitsche stabilisation in the same units
+        (default 1e2).
+    solver : {"auto", "direct", "amg"}
+        SuperLU or CG with a multigrid preconditioner; "auto" picks by size.
+    crack_rule : {"visibility", "diffraction", "transparency", "see_through"}
+        How supports see cracks (:mod:`efgkit.approx.crack_rules`). Enrichment
+        refuses visibility, except the sqrt(r) basis (``enrichment="radial"``),
+        which needs no smoothing (seed 003 Sect. 5.3.2) and is more accurate
+        with it on grid-aligned cracks, less on inclined ones (verification
+        ``singular_patch``, ``inclined``).
+    rule_power : float
+        lambda of the diffraction (Eq. 29) or transparency (Eq. 32, >= 2) rule.
+    hole_rule : {"see_through", "visibility", "diffraction"}
+        How supports see holes (:mod:`efgkit.approx.hole_rules`); diffraction
+        wraps around the tangent point (seed 003 Sect. 4.2, Fig. 11b).
+    kappa : float
+        Transparency: opaque at kappa h behind the tip (Eq. 33).
+    rosette : Rosette, optional
+        Star-shaped node array at every tip.
+    enrichment : {"none", "radial", "full", "extrinsic_mls", "pu"}
+        Crack-tip enrichment (seed 003 Sect. 5): intrinsic sqrt(r) basis
+        (Eq. 52) or full near-tip basis (Eq. 50), ramped to the linear basis
+        (Eqs. 53-56); extrinsic MLS with global K_I, K_II unknowns per tip
+        (Eqs. 37-47); extrinsic partition of unity (Eqs. 48-49).
+    enrich_radius : float, optional
+        Intrinsic: the outer ramp radius r2 (default 4 spacings); PU: nodes
+        whose support comes within this distance of a tip are enriched
+        (default 2 spacings); extrinsic MLS: the fields are global (ignored).
+    ramp : {"linear", "quintic"}
+        Intrinsic ramp R of Eq. (54).
+    ramp_inner : float
+        r1 of Eq. (54): R = 1 inside it.
+    tip_order : int
+        Gauss points per direction of the collapsed fan rules in the cells
+        holding a tip (:mod:`efgkit.quadrature.tip_cells`). The cells within
+        max(2 cell sizes, ``enrich_radius`` of intrinsic enrichment) of a tip
+        are split 2 x 2 and use ``refined_order``.
+    """
+
+    spacing: float
+    zones: tuple[Zone, ...] = ()
+    perturb: float = 0.0
+    seed: int = 0
+    coordinates: np.ndarray | None = None
+    d_max: float = 2.0
+    weight: str = "quartic"
+    alpha: float = 0.5
+    basis: str = "linear"
+    quadrature: str = "cells"
+    order: int = 4
+    refined_order: int = 6
+    cell_size: float | None = None
+    bc: str = "penalty"
+    penalty: float | None = None
+    solver: str = "auto"
+    crack_rule: str = "diffraction"
+    rule_power: float = 2.0
+    hole_rule: str = "see_through"
+    kappa: float = 0.5
+    rosette: Rosette | None = None
+    enrichment: str = "none"
+    enrich_radius: float | None = None
+    ramp: str = "quintic"
+    ramp_inner: float = 0.0
+    tip_order: int = 8
+
+    def __post_init__(self):
+        _positive("spacing", self.spacing)
+        object.__setattr__(self, "zones", tuple(self.zones))
+        for z in self.zones:
+            if not isinstance(z, Zone):
+                raise TypeError(f"zones must hold Zone objects, got {type(z).__name__}")
+        if not (isinstance(self.perturb, (int, float)) and 0 <= self.perturb < 0.5):
+            raise ValueError(f"perturb must lie in [0, 0.5) (fraction of the spacing), got {self.perturb!r}")
+        if self.coordinates is not None:
+            c = np.asarray(self.coordinates, dtype=float)
+            if c.ndim != 2 or c.shape[1] != 2 or not np.all(np.isfinite(c)):
+                raise ValueError(f"coordinates must be a finite array of shape (n, 2), got shape {c.shape}")
+            object.__setattr__(self, "coordinates", c)
+        _positive("d_max", self.d_max)
+        _choice("weight", self.weight, WEIGHTS)
+        _positive("alpha", self.alpha)
+        _choice("basis", self.basis, BASES)
+        _choice("quadrature", self.quadrature, QUADRATURES)
+        _positive("order", self.order, integer=True)
+        _positive("refined_order", self.refined_order, integer=True)
+        if self.cell_size is not None:
+            _positive("cell_size", self.cell_size)
+        _choice("bc", self.bc, BC_METHODS)
+        if self.penalty is not None:
+            _positive("penalty", self.penalty)
+        _choice("solver", self.solver, SOLVERS)
+        _choice("crack_rule", self.crack_rule, CRACK_RULES)
+        _positive("rule_power", self.rule_power)
+        if self.crack_rule == "transparency" and self.rule_power < 2:
+            raise ValueError(f"crack_rule='transparency' needs rule_power >= 2 (seed 003 Eq. 32), "
+                             f"got {self.rule_power!r}")
+        _choice("hole_rule", self.hole_rule, HOLE_RULES)
+        _positive("kappa", self.kappa)
+        if self.rosette is not None and not isinstance(self.rosette, Rosette):
+            raise TypeError(f"rosette must be a Rosette, got {type(self.rosette).__name__}")
+        _choice("enrichment", self.enrichment, ENRICHMENTS)
+        if self.enrich_radius is not None:
+            _positive("enrich_radius", self.enrich_radius)
+        _choice("ramp", self.ramp, RAMPS)
+        if not (isinstance(self.ramp_inner, (int, float)) and math.isfinite(self.ramp_inner)
+                and 0 <= self.ramp_inner < self.ramp_outer):
+            raise ValueError(f"ramp_inner must lie in [0, enrich_radius = {self.ramp_outer}), "
+                             f"got {self.ramp_inner!r}")
+        _positive("tip_order", self.tip_order, integer=True)
+
+    @property
+    def ramp_outer(self) -> float:
+        """r2 of the intrinsic ramp (Eq. 54)."""
+        return self.enrich_radius if self.enrich_radius is not None else 4.0 * self.spacing
+
+    @property
+    def pu_radius(self) -> float:
+        """PU enrichment: nodes whose support comes this close to a tip are enriched."""
+        return self.enrich_radius if self.enrich_radius is not None else 2.0 * self.spacing
+
+    @property
+    def regular(self) -> bool:
+        """Whether nodes lie on a regular grid (decides c_I: 2nd or 3rd neighbour)."""
+        return self.coordinates is None and self.perturb == 0 and not self.zones

@@ -1,0 +1,222 @@
+"""The physical problem: domain, material, supports, loads and cracks.
+
+A :class:`Scene` holds no arrays of a discretisation. Prescribed values are
+floats, Python callables ``x (n, 2) -> (n,)`` / ``(n, 2)``, or a named
+analytic :class:`~efgkit.problem.exact.fields.Field` evaluated with the scene's material.
+Scene files (TOML) map onto these classes one to one (:mod:`efgkit.io`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from .crack import Crack
+from .exact.fields import Field
+from .geometry import Domain
+from .material import Elastic
+
+__all__ = ["Scene", "Support", "Traction", "evaluate_vector", "evaluate_component"]
+
+Where = str | Callable  # edge name or x (n, 2) -> bool mask (n,)
+
+
+def _check_value(what: str, v, vector: bool) -> None:
+    if v is None or callable(v) or isinstance(v, Field):
+        return
+    arr = np.asarray(v, dtype=float)
+    if arr.shape != ((2,) if vector else ()):
+        raise ValueError(f"{what} must be {'a 2-vector' if vector else 'a float'}, got {v!r}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{what} must be finite, got {v!r}")
+
+
+@dataclass(frozen=True)
+class Support:
+    """Prescribed displacement components on an edge.
+
+    Parameters
+    ----------
+    edge : str or callable
+        Edge name, or ``x (n, 2) -> bool (n,)`` selecting boundary points.
+    ux, uy : float, callable ``x (n, 2) -> (n,)``, Field, or None
+        Prescribed component (None: free). A :class:`Field` prescribes its
+        displacement component.
+    """
+
+    edge: Where
+    ux: float | Callable | Field | None = None
+    uy: float | Callable | Field | None = None
+
+    def __post_init__(self):
+        if self.ux is None and self.uy is None:
+            raise ValueError(f"support on {self.edge!r} prescribes nothing: give ux and/or uy")
+        _check_value(f"support on {self.edge!r}: ux", self.ux, vector=False)
+        _check_value(f"support on {self.edge!r}: uy", self.uy, vector=False)
+
+
+@dataclass(frozen=True)
+class Traction:
+    """Surface traction ``t (n, 2)`` on an edge (force per length).
+
+    ``t`` is a 2-vector, a callable ``x (n, 2) -> (n, 2)``, or a :class:`Field`
+    (whose traction ``sigma . n`` on the edge's outward normal is applied).
+    """
+
+    edge: Where
+    t: tuple[float, float] | Callable | Field
+
+    def __post_init__(self):
+        _check_value(f"traction on {self.edge!r}: t", self.t, vector=True)
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A 2D linear-elastic boundary value problem.
+
+    Examples
+    --------
+    >>> from efgkit import Domain, Elastic
+    >>> s = Scene(Domain.rectangle(0, 0, 1, 1), Elastic(1.0, 0.25),
+    ...           supports=(Support("left", ux=0.0, uy=0.0),),
+    ...           tractions=(Traction("right", (1.0, 0.0)),))
+    >>> s.is_static, len(s.cracks)
+    (True, 0)
+    """
+
+    domain: Domain
+    material: Elastic
+    supports: tuple[Support, ...] = ()
+    tractions: tuple[Traction, ...] = ()
+    body_force: tuple[float, float] | Callable | None = None
+    cracks: tuple[Crack, ...] = ()
+    exact: Field | None = None
+    name: str = "scene"
+    duration: float | None = None  # None: static
+
+    def __post_init__(self):
+        if not isinstance(self.domain, Domain):
+            raise TypeError(f"domain must be a Domain, got {type(self.domain).__name__}")
+        if not isinstance(self.material, Elastic):
+            raise TypeError(f"material must be an Elastic, got {type(self.material).__name__}")
+        for attr in ("supports", "tractions", "cracks"):
+            object.__setattr__(self, attr, tuple(getattr(self, attr)))
+        names = self.domain.edge_names
+        for kind, items in (("support", self.supports), ("traction", self.tractions)):
+            for it in items:
+                if isinstance(it.edge, str) and it.edge not in names:
+                    raise ValueError(
+                        f"{kind} on edge {it.edge!r}: the domain has no such edge; "
+                        f"its edges are {sorted(names)}"
+                    )
+        _check_cracks(self.cracks, self.domain)
+        _check_value("body_force", self.body_force, vector=True)
+        if self.duration is not None and not (math.isfinite(self.duration) and self.duration > 0):
+            raise ValueError(f"duration must be finite and > 0 (or None), got {self.duration!r}")
+
+    @property
+    def is_static(self) -> bool:
+        return self.duration is None
+
+    @property
+    def tips(self) -> tuple:
+        """Every crack tip of the scene (:class:`~efgkit.problem.crack.Tip`), crack by crack."""
+        return tuple(t for c in self.cracks for t in c.tip_list)
+
+    def with_cracks(self, cracks) -> Scene:
+        """A copy with ``cracks`` replaced."""
+        return replace(self, cracks=tuple(cracks))
+
+    def with_supports(self, supports) -> Scene:
+        """A copy with ``supports`` replaced."""
+        return replace(self, supports=tuple(supports))
+
+
+def _check_cracks(cracks, domain: Domain) -> None:
+    """Cracks lie in the body: tips inside, mouths on the boundary, no crossings."""
+    from .geometry import segments_intersect
+
+    names = set()
+    tol = 1e-9 * domain.size
+    bnd = domain.boundary_segments()
+    for c in cracks:
+        if not isinstance(c, Crack):
+            raise TypeError(f"cracks must hold Crack objects, got {type(c).__name__}")
+        if c.name in names:
+            raise ValueError(f"two cracks are named {c.name!r}: crack names must be unique")
+        names.add(c.name)
+        v = c.vertices
+        dist = domain.distance_to_boundary(v)
+        inside = domain.contains(v)
+        for k, (d, ins) in enumerate(zip(dist, inside, strict=True)):
+            end = 0 if k == 0 else 1 if k == len(v) - 1 else None
+            if end is not None and not c.tips[end]:
+                if d > tol:
+                    raise ValueError(
+                        f"crack {c.name!r}: vertex {k} {v[k].tolist()} is a mouth (tips[{end}] is "
+                        f"False) but lies {d:.3g} from the domain boundary; put it on the "
+                        "boundary or make it a tip")
+                continue
+            what = "tip" if end is not None else "vertex"
+            if not ins or d <= tol:
+                where = "on the domain boundary" if d <= tol else "outside the domain"
+                raise ValueError(
+                    f"crack {c.name!r}: {what} {k} {v[k].tolist()} lies {where}; cracks must run "
+                    "inside the body (a crack along the boundary is just boundary)")
+        # No segment may cross the boundary; a mouth touches it at its vertex only, so the
+        # segment at a mouth is tested without its last 1e-7 of length.
+        last = len(v) - 2
+        for k, (a, b) in enumerate(c.segments):
+            a = a + 1e-7 * (b - a) if k == 0 and not c.tips[0] else a
+            b = b + 1e-7 * (a - b) if k == last and not c.tips[1] else b
+            hit = segments_intersect(np.broadcast_to(a, (len(bnd), 2)), np.broadcast_to(b, (len(bnd), 2)),
+                                     bnd[:, 0], bnd[:, 1])
+            if hit.any():
+                raise ValueError(
+                    f"crack {c.name!r}: segment {k} (vertices {k}-{k + 1}) crosses the domain boundary "
+                    f"near {bnd[np.argmax(hit), 0].tolist()}; cracks must run inside the body")
+    segs = [(c.name, k, s) for c in cracks for k, s in enumerate(c.segments)]
+    for i in range(len(segs)):
+        for j in range(i + 1, len(segs)):
+            (n1, k1, s1), (n2, k2, s2) = segs[i], segs[j]
+            if n1 != n2 and segments_intersect(s1[None, 0], s1[None, 1], s2[None, 0], s2[None, 1])[0]:
+                raise ValueError(
+                    f"cracks {n1!r} (segment {k1}) and {n2!r} (segment {k2}) intersect; "
+                    "crossing or branching cracks are not supported")
+
+
+def evaluate_component(value, x: np.ndarray, comp: int, material: Elastic) -> np.ndarray:
+    """Evaluate a prescribed scalar (float / callable / Field component) at ``x (n, 2)`` -> (n,)."""
+    if isinstance(value, Field):
+        out = value.displacement(x, material)[:, comp]
+    elif callable(value):
+        out = np.asarray(value(x), dtype=float)
+        out = np.broadcast_to(out, (len(x),)).copy()
+    else:
+        out = np.full(len(x), float(value))
+    if not np.all(np.isfinite(out)):
+        raise ValueError("a prescribed displacement evaluated to NaN or inf on the boundary")
+    return out
+
+
+def evaluate_vector(value, x: np.ndarray, normal: np.ndarray, material: Elastic) -> np.ndarray:
+    """Evaluate a traction / body-force value at ``x (n, 2)`` -> (n, 2).
+
+    ``normal (n, 2)`` is the outward unit normal, used by :class:`Field` values.
+    """
+    if isinstance(value, Field):
+        s = value.stress(x, material)
+        out = np.column_stack([s[:, 0] * normal[:, 0] + s[:, 2] * normal[:, 1],
+                               s[:, 2] * normal[:, 0] + s[:, 1] * normal[:, 1]])
+    elif callable(value):
+        out = np.broadcast_to(np.asarray(value(x), dtype=float), (len(x), 2)).copy()
+    else:
+        out = np.broadcast_to(np.asarray(value, dtype=float), (len(x), 2)).copy()
+    if not np.all(np.isfinite(out)):
+        raise ValueError("a traction or body force evaluated to NaN or inf")
+    return out
+
+

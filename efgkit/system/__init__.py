@@ -1,0 +1,13 @@
+"""Linear algebra of the discretised problem, never reading the scene.
+
+``assemble`` (stiffness, load vector and lumped mass from shape operators at weighted
+points), ``constraints`` (essential conditions as penalty, Lagrange multipliers, the
+modified variational principle or elimination; the linear system they give),
+``linalg`` (direct and preconditioned iterative solves, checked) and ``auxiliary``
+(the auxiliary-space preconditioner on a P1 stiffness of the nodes).
+"""
+
+from .constraints import LinearSystem, RigidBodyModeError
+from .linalg import SolverError
+
+__all__ = ["LinearSystem", "RigidBodyModeError", "SolverError"]

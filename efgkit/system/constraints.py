@@ -1,0 +1,245 @@
+"""Essential boundary conditions: penalty, Lagrange multipliers, modified variational
+principle, and elimination (for the modified MLS of seed 002).
+
+Each method turns ``K c = f`` plus the prescribed displacements into one
+:class:`LinearSystem`. Prescribed data come as :class:`Dirichlet`: boundary
+quadrature points, the shape functions there, the prescribed components
+and values.
+
+* penalty, seed 003 Eq. (28): ``(K + beta G^T S G) c = f + beta G^T S ubar``;
+  inconsistent by O(E / (beta h)) and locking for very large beta; default ``1e3 E / h``.
+* Lagrange multipliers, Eq. (26): multipliers piecewise linear along each
+  constrained edge (hats on the boundary segments), saddle-point system.
+* modified variational principle, Eq. (27): the multiplier replaced by the
+  traction t(u) = sigma(u) n, ``K - H - H^T``; stabilised (Nitsche) by a
+  penalty ``beta`` (default ``100 E / h``) because Eq. (27) alone is not coercive.
+* elimination (row cross-out, seed 002 after Eq. 19): with Kronecker-delta
+  shape functions at the constrained nodes their coefficients are the
+  prescribed values.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.sparse import bmat, coo_array, csr_array, diags_array, vstack
+
+from ..approx.shape import Shape
+
+__all__ = ["Dirichlet", "LinearSystem", "RigidBodyModeError", "penalty", "lagrange", "rigid_body_modes",
+           "modified_variational", "eliminate", "check_rigid_modes"]
+
+
+class RigidBodyModeError(ValueError):
+    """The essential boundary conditions leave a rigid-body motion free."""
+
+
+@dataclass(frozen=True, eq=False)
+class Dirichlet:
+    """Prescribed displacements sampled at boundary quadrature points.
+
+    Attributes
+    ----------
+    x : (m, 2) points; w : (m,) line weights; normal : (m, 2) outward normals
+    shape : Shape
+        Shape functions (with derivatives for the variational method) at ``x``.
+    fixed : (m, 2) bool
+        Which components are prescribed at each point.
+    value : (m, 2)
+        Prescribed values (ignored where not fixed).
+    segment : (m,) int, t : (m,) float
+        Boundary segment of each point and its local coordinate, in [0, 1]
+        except on a corner piece that extrapolates its neighbour's multiplier
+        (the Lagrange-multiplier hats are linear in t between the segment's
+        two hat nodes).
+    seg_nodes : (n_segments, 2) int
+        Multiplier-hat node numbers at the two ends of each segment.
+    """
+
+    x: np.ndarray
+    w: np.ndarray
+    normal: np.ndarray
+    shape: Shape
+    fixed: np.ndarray
+    value: np.ndarray
+    segment: np.ndarray
+    t: np.ndarray
+    seg_nodes: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class LinearSystem:
+    """``A z = b`` and how to get the MLS coefficients back from ``z``.
+
+    Attributes
+    ----------
+    A : csr_array (n, n); b : (n,)
+    spd : bool
+        Symmetric positive definite (eligible for AMG + CG).
+    n_coeffs : int
+        Number of MLS coefficients, n_dofs (2 n_functions and any enrichment unknowns).
+    free : (n_free,) int or None
+        With elimination, the coefficient indices ``z`` stands for.
+    fixed_values : (n_dofs,) or None
+        With elimination, the prescribed coefficients.
+    """
+
+    A: csr_array
+    b: np.ndarray
+    spd: bool
+    n_coeffs: int
+    free: np.ndarray | None = None
+    fixed_values: np.ndarray | None = None
+
+    def coefficients(self, z: np.ndarray) -> np.ndarray:
+        """MLS coefficients ``(n_dofs,)`` from the solution ``z``."""
+        if self.free is None:
+            return z[: self.n_coeffs]
+        c = self.fixed_values.copy()
+        c[self.free] = z
+        return c
+
+
+def _fixed_rows(ops, fixed: np.ndarray) -> csr_array:
+    """Rows (point, component) of the fixed components, point-major like ``value[fixed]``.
+
+    ``ops`` are the x and y component operators (n_points, n_dofs).
+    """
+    n = fixed.shape[0]
+    q, c = np.nonzero(fixed)
+    return csr_array(vstack(list(ops), format="csr")[c * n + q])
+
+
+def _component_operator(shape: Shape, fixed: np.ndarray) -> csr_array:
+    """Rows (point, component) for fixed components -> coefficient columns (n_dofs)."""
+    return _fixed_rows(shape.u_operators(), fixed)
+
+
+def rigid_body_modes(x: np.ndarray) -> np.ndarray:
+    """Coefficients of the three rigid-body motions, shape (2 n, 3).
+
+    MLS reproduces linear fields, so nodal values of a rigid motion are its
+    coefficients.
+    """
+    R = np.zeros((2 * len(x), 3))
+    R[0::2, 0] = 1.0
+    R[1::2, 1] = 1.0
+    R[0::2, 2] = -(x[:, 1] - x[:, 1].mean())
+    R[1::2, 2] = x[:, 0] - x[:, 0].mean()
+    return R
+
+
+def check_rigid_modes(C: csr_array, node_x: np.ndarray) -> None:
+    """Raise :class:`RigidBodyModeError` unless the constraint operator ``C`` fixes all
+    three rigid-body motions (rank 3 of ``C R``)."""
+    if C.shape[0] == 0:
+        raise RigidBodyModeError(
+            "the scene has no essential boundary condition: the body can move as a rigid body. "
+            "Add a Support that prescribes ux and uy somewhere (and a rotation restraint)."
+        )
+    R = np.zeros((C.shape[1], 3))  # enrichment unknowns (after the nodal ones) stay 0
+    R[: 2 * len(node_x)] = rigid_body_modes(node_x)
+    R /= np.linalg.norm(R, axis=0)
+    sv = np.linalg.svd(C @ R, compute_uv=False)
+    names = ["translation in x", "translation in y", "rotation"]
+    if sv[-1] < 1e-8 * sv[0]:
+        _, _, vt = np.linalg.svd(C @ R)
+        free = names[int(np.argmax(np.abs(vt[-1])))]
+        raise RigidBodyModeError(
+            f"the essential boundary conditions leave a rigid-body mode free (mostly {free}); "
+            "the stiffness matrix would be singular. Prescribe more displacement components."
+        )
+
+
+def penalty(K, f, bc: Dirichlet, beta: float, node_x: np.ndarray) -> LinearSystem:
+    """Penalty method, seed 003 Eq. (28)."""
+    G = _component_operator(bc.shape, bc.fixed)
+    check_rigid_modes(G, node_x)
+    w = np.broadcast_to(bc.w[:, None], bc.fixed.shape)[bc.fixed]
+    W = diags_array(beta * w)
+    A = csr_array(K + G.T @ W @ G)
+    b = f + G.T @ (beta * w * bc.value[bc.fixed])
+    return LinearSystem(A, b, spd=True, n_coeffs=K.shape[0])
+
+
+def lagrange(K, f, bc: Dirichlet, node_x: np.ndarray) -> LinearSystem:
+    """Lagrange multipliers, seed 003 Eq. (26), with piecewise-linear multipliers.
+
+    ``[[K, G^T], [G, 0]] [c; lambda] = [f; q]`` with ``G_kI = int N_k phi_I ds``
+    and ``q_k = int N_k ubar ds`` for each hat N_k and prescribed component.
+    """
+    Gpt = _component_operator(bc.shape, bc.fixed)  # (n_fixed_rows, n_dofs)
+    check_rigid_modes(Gpt, node_x)
+    pts, comps = np.nonzero(bc.fixed)
+    n_hat = int(bc.seg_nodes.max()) + 1
+    # Rows of Gpt (point, comp) -> hats (node, comp): N = 1 - t and t at the segment ends.
+    ends = bc.seg_nodes[bc.segment[pts]]
+    tt = bc.t[pts]
+    lam_rows = np.concatenate([2 * ends[:, 0] + comps, 2 * ends[:, 1] + comps])
+    src = np.concatenate([np.arange(len(pts))] * 2)
+    weight = np.concatenate([(1 - tt), tt]) * np.concatenate([bc.w[pts]] * 2)
+    N = coo_array((weight, (lam_rows, src)), shape=(2 * n_hat, len(pts))).tocsr()
+    G = csr_array(N @ Gpt)
+    q = N @ bc.value[pts, comps]
+    used = np.flatnonzero(np.asarray(abs(G).sum(axis=1)).ravel() > 0)
+    G, q = G[used], q[used]
+    # Scale the constraint rows like the stiffness: K ~ E and G ~ h otherwise differ by the
+    # modulus, and the residual check ||A z - b|| <= rtol ||b|| would weigh the tiny
+    # prescribed displacements against forces (the multipliers come out scaled; unused).
+    scale = abs(K).max() / max(abs(G).max(), np.finfo(float).tiny) if G.shape[0] else 1.0
+    G, q = csr_array(scale * G), scale * q
+    A = csr_array(bmat([[K, G.T], [G, None]], format="csr"))
+    return LinearSystem(A, np.concatenate([f, q]), spd=False, n_coeffs=K.shape[0])
+
+
+def _traction_operator(bc: Dirichlet, D: np.ndarray) -> csr_array:
+    """Rows (point, fixed comp) -> t_comp = (D eps(c) . n)_comp at boundary points."""
+    gxx, gxy, gyx, gyy = bc.shape.grad_operators()
+    eps = (gxx, gyy, csr_array(gxy + gyx))
+    sig = [csr_array(sum(D[i, j] * eps[j] for j in range(3) if D[i, j] != 0)) for i in range(3)]
+    nx, ny = diags_array(bc.normal[:, 0]), diags_array(bc.normal[:, 1])
+    tx = csr_array(nx @ sig[0] + ny @ sig[2])
+    ty = csr_array(nx @ sig[2] + ny @ sig[1])
+    return _fixed_rows((tx, ty), bc.fixed)
+
+
+def modified_variational(K, f, bc: Dirichlet, D: np.ndarray, beta: float,
+                         node_x: np.ndarray) -> LinearSystem:
+    """Modified variational principle, seed 003 Eq. (27), with Nitsche stabilisation beta.
+
+    With G u the prescribed components and T u the matching traction
+    components at boundary points (weights w):
+    ``A = K - G^T W T - T^T W G + beta G^T W G``,
+    ``b = f - T^T W ubar + beta G^T W ubar``.
+    """
+    G = _component_operator(bc.shape, bc.fixed)
+    check_rigid_modes(G, node_x)
+    T = _traction_operator(bc, D)
+    w = np.broadcast_to(bc.w[:, None], bc.fixed.shape)[bc.fixed]
+    W = diags_array(w)
+    ub = bc.value[bc.fixed]
+    H = G.T @ W @ T
+    A = csr_array(K - H - H.T + beta * (G.T @ W @ G))
+    b = f - T.T @ (w * ub) + beta * (G.T @ (w * ub))
+    return LinearSystem(A, b, spd=True, n_coeffs=K.shape[0])
+
+
+def eliminate(K, f, fixed_dofs: np.ndarray, fixed_values: np.ndarray,
+              node_x: np.ndarray) -> LinearSystem:
+    """Direct elimination of coefficients known to equal prescribed values.
+
+    Valid for shape functions with the Kronecker-delta property at the
+    constrained nodes (seed 002 Eq. 19, 'row cross-out').
+    """
+    n = K.shape[0]
+    C = csr_array((np.ones(len(fixed_dofs)), (np.arange(len(fixed_dofs)), fixed_dofs)),
+                  shape=(len(fixed_dofs), n))
+    check_rigid_modes(C, node_x)
+    c0 = np.zeros(n)
+    c0[fixed_dofs] = fixed_values
+    free = np.setdiff1d(np.arange(n), fixed_dofs)
+    Kc = K.tocsc()
+    A = csr_array(Kc[:, free].tocsr()[free])
+    b = (f - K @ c0)[free]
+    return LinearSystem(A, b, spd=True, n_coeffs=n, free=free, fixed_values=c0)
