@@ -19,8 +19,8 @@ from scipy.spatial import Delaunay, cKDTree
 from .problem.geometry import Domain, segments_intersect
 from .problem.material import Elastic
 
-__all__ = ["jsonable", "nodes_path", "sample_grid", "von_mises", "write_figure", "write_json",
-           "write_nodes_vtu", "write_vtu"]
+__all__ = ["check_finite", "jsonable", "nodes_path", "sample_grid", "von_mises", "write_figure",
+           "write_json", "write_nodes_vtu", "write_vtu"]
 
 _ARC_MIN = 48  # boundary points per full turn of an arc, whatever the grid spacing
 _CLEAR = 0.35  # grid points closer than this many spacings to the boundary are dropped
@@ -148,6 +148,34 @@ def von_mises(stress: np.ndarray, material: Elastic) -> np.ndarray:
     return np.sqrt(0.5 * ((sxx - syy) ** 2 + (syy - szz) ** 2 + (szz - sxx) ** 2) + 3 * sxy**2)
 
 
+def check_finite(fields: dict, x: np.ndarray, path) -> None:
+    """Refuse to write non-finite field values.
+
+    Parameters
+    ----------
+    fields : dict of str to ndarray, shape (n,) or (n, k)
+        The arrays to be written, one row per point.
+    x : ndarray, shape (n, 2)
+        The points (to name the first bad one).
+    path : str or Path
+        The file that is not written.
+
+    Raises
+    ------
+    ValueError
+        Naming the field, how many points are affected, the first one and the likely cause.
+    """
+    for name, v in fields.items():
+        bad = ~np.isfinite(np.asarray(v, dtype=float).reshape(len(x), -1)).all(axis=1)
+        if bad.any():
+            k = int(np.argmax(bad))
+            raise ValueError(
+                f"field {name!r} is NaN or inf at {int(bad.sum())} of {len(x)} points (e.g. x = "
+                f"{np.asarray(x)[k].tolist()}); {Path(path).name} is not written. Likely cause: values "
+                "whose squares overflow (loads, lengths or moduli beyond ~1e150 in magnitude: "
+                "rescale the units) or a solve that did not converge")
+
+
 def pad3(v: np.ndarray) -> np.ndarray:
     """(n, 2) -> (n, 3) with a zero z column (VTK vectors are 3D)."""
     return np.column_stack([v, np.zeros(len(v))])
@@ -176,12 +204,13 @@ def write_nodes_vtu(nodes, path) -> Path:
     import meshio
 
     path = Path(path)
+    data = {"support_radius": np.asarray(nodes.radius, float),
+            "boundary": np.asarray(nodes.boundary, np.int32)}
+    check_finite({"x": nodes.x, **data}, nodes.x, path)
     path.parent.mkdir(parents=True, exist_ok=True)
     n = nodes.n
-    meshio.write_points_cells(
-        path, pad3(nodes.x), [("vertex", np.arange(n).reshape(n, 1))],
-        point_data={"support_radius": np.asarray(nodes.radius, float),
-                    "boundary": np.asarray(nodes.boundary, np.int32)})
+    meshio.write_points_cells(path, pad3(nodes.x), [("vertex", np.arange(n).reshape(n, 1))],
+                              point_data=data)
     return path
 
 
@@ -189,7 +218,8 @@ def write_vtu(solution, path, n_target: int = 20000) -> Path:
     """Write the fields of a solution on :func:`sample_grid` as a VTU file.
 
     Triangle cells; point data ``displacement (n, 3)`` (z = 0), ``stress (n, 3)``
-    (xx, yy, xy) and ``von_mises (n,)`` (see :func:`von_mises`). Any
+    (xx, yy, xy) and ``von_mises (n,)`` (see :func:`von_mises`); a ValueError
+    (:func:`check_finite`) instead of a file if any of them is NaN or inf. Any
     :class:`~efgkit.solution.Solution` (meshless solutions also write their node
     cloud, :meth:`MeshlessSolution.write_vtu <efgkit.meshless_solution.MeshlessSolution.write_vtu>`).
 
@@ -216,11 +246,12 @@ def write_vtu(solution, path, n_target: int = 20000) -> Path:
     x, tri = sample_grid(scene.domain, n_target, scene.cracks)
     u = solution.displacement(x)
     s = solution.stress(x)
+    with np.errstate(over="ignore", invalid="ignore"):  # non-finite values are refused below
+        vm = von_mises(s, scene.material)
+    data = {"displacement": pad3(u), "stress": s, "von_mises": vm}
+    check_finite(data, x, path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    meshio.write_points_cells(
-        path, pad3(x), [("triangle", tri)],
-        point_data={"displacement": pad3(u), "stress": s,
-                    "von_mises": von_mises(s, scene.material)})
+    meshio.write_points_cells(path, pad3(x), [("triangle", tri)], point_data=data)
     return path
 
 
@@ -255,14 +286,40 @@ def jsonable(obj):
 def write_json(obj, path) -> Path:
     """Write ``jsonable(obj)`` as indented JSON; parent directories are created.
 
+    Non-finite scalars are written as ``null`` (a value not available), but a numpy array
+    holding NaN or inf (a field) is refused with a ValueError naming its key.
+
     Returns
     -------
     Path
     """
     path = Path(path)
+    key = _nonfinite_array(obj)
+    if key is not None:
+        raise ValueError(f"array {key} holds NaN or inf; {path.name} is not written. Likely cause: "
+                         "values whose squares overflow (rescale the units) or a failed solve")
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(json.dumps(jsonable(obj), indent=1, allow_nan=False) + "\n")
     return path
+
+
+def _nonfinite_array(obj, key: str = "obj") -> str | None:
+    """The key path (e.g. ``obj['u'][2]``) of the first float array in ``obj`` holding NaN or inf."""
+    if isinstance(obj, np.ndarray):
+        return key if obj.dtype.kind in "fc" and not np.all(np.isfinite(obj)) else None
+    if isinstance(obj, dict):
+        items = obj.items()
+    elif isinstance(obj, (list, tuple)):
+        items = enumerate(obj)
+    elif dataclasses.is_dataclass(obj) and not isinstance(obj, type):
+        items = ((f.name, getattr(obj, f.name)) for f in dataclasses.fields(obj))
+    else:
+        return None
+    for k, v in items:
+        found = _nonfinite_array(v, f"{key}[{k!r}]")
+        if found is not None:
+            return found
+    return None
 
 
 def write_figure(fig, path, dpi: int = 150, close: bool = True) -> Path:

@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from efgkit import EFG, Domain, Elastic, Loop, Scene, Support, Traction
+from efgkit import EFG, Crack, Domain, Elastic, Loop, Scene, Support, Traction
 from efgkit.approx.mls import SingularMomentMatrix
 from efgkit.static import solve
 from efgkit.system.constraints import RigidBodyModeError
@@ -186,3 +186,102 @@ def test_point_traction_selecting_nothing_is_refused():
     with pytest.raises(ValueError, match=r"traction .* selects none of the boundary quadrature "
                                          r"points, so its load would be lost"):
         solve(scene, EFG(spacing=0.25))
+
+
+# --- issue [trust]: no silent wrong answer from magnitudes float64 cannot square -----------------
+
+@pytest.mark.parametrize("build,what", [
+    (lambda: Domain.rectangle(0, 0, 1e300, 1e300), r"loop vertices \(and arc centres\): coordinate 1"),
+    (lambda: Loop.circle([0.0, 0.0], 1e300), r"loop vertices \(and arc centres\): coordinate 0"),
+    (lambda: Crack([[0.0, 0.0], [1e300, 0.0]], name="c"), "crack 'c': vertices: coordinate 1"),
+], ids=["rectangle", "circle", "crack"])
+def test_coordinates_too_large_to_square(build, what):
+    # they raised OverflowError inside Domain, and a crack was said to have a zero-length segment
+    with pytest.raises(ValueError, match=what + r" \[1e\+300, 0.0\] is too large to square without "
+                       r"overflow \(\|x\| <= 1e\+150.*rescale the units"):
+        build()
+
+
+@pytest.mark.parametrize("build", [lambda: Domain.rectangle(0, 0, 1e-200, 1e-200),
+                                   lambda: Crack([[0.0, 0.0], [1e-200, 0.0], [1e-200, 1e-200]])],
+                         ids=["rectangle", "crack"])
+def test_coordinates_too_small_to_square(build):
+    # the squares underflow: "zero-length edge" or "zero-length segment" before
+    with pytest.raises(ValueError, match=r"span 1e-200, too small to square without underflow "
+                                         r"\(span >= 1e-150\); rescale the units"):
+        build()
+
+
+def test_geometry_near_the_coordinate_limit_is_exact_and_warning_free():
+    # segments_intersect and the crack's self-intersection test form fourth powers of lengths:
+    # they work in coordinates scaled by powers of two (RuntimeWarnings are errors here)
+    big = 1e149
+    dom = Domain.rectangle(0, 0, 10 * big, 10 * big, holes=[Loop.circle([5 * big, 5 * big], big)])
+    assert math.isclose(dom.area, 100 * big**2 - math.pi * big**2, rel_tol=1e-4)
+    with pytest.raises(ValueError, match="intersects itself: segments 0 and 2"):
+        Crack([[0.0, 0.0], [big, 0.0], [big, big], [0.5 * big, -big]], name="c")
+    with pytest.raises(ValueError, match="intersects itself: segments 0 and 2"):
+        Crack([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.5, -1.0]], name="c")
+
+
+def _loaded(t, E=1.0, cracks=()):
+    return Scene(SQUARE, Elastic(E, 0.3), supports=(Support("left", ux=0.0, uy=0.0),),
+                 tractions=(Traction("right", (t, 0.0)),), cracks=cracks)
+
+
+def test_traction_too_large_to_square():
+    # it solved to NaN energy and wrote inf into the VTU; the CLI then died in matplotlib
+    with pytest.raises(ValueError, match=r"traction on 'right': t = \(1e\+300, 0.0\) is too large to "
+                                         r"square without overflow \(\|value\| <= 1e\+150.*rescale"):
+        Traction("right", (1e300, 0.0))
+    with pytest.raises(ValueError, match=r"support on 'left': ux = 1e\+200 is too large to square"):
+        Support("left", ux=1e200)
+
+
+@pytest.mark.parametrize("kw,match", [
+    (dict(t=1e150), r"too large for float64: the force scale 1.41e\+150 \(from traction on 'right': "
+                    r"t = \(1e\+150, 0.0\), domain size 1.41, E = 1\) lies outside \[1e-150, 1e\+150\], "
+                    r"so its square overflows"),
+    (dict(t=1e100, E=1e-100), r"the displacement scale 1.41e\+200 .* E = 1e-100\) lies outside"),
+    (dict(t=1e-200), r"too small for float64: the stress scale 1e-200 .* underflows to zero"),
+], ids=["force", "displacement", "underflow"])
+def test_load_scales_whose_squares_leave_float64(kw, match):
+    """The scene refuses constant loads whose stress, force, displacement or energy scale
+    squares outside float64 (issue [trust]: 1e300 solved to NaN energy, and 1e-200 to zero
+    displacement, silently)."""
+    with pytest.raises(ValueError, match=match + ".*rescale the units"):
+        _loaded(**kw)
+    assert _loaded(1e10, E=1e12).is_static  # large but representable: accepted
+
+
+def test_load_scale_of_enriched_sif_unknowns():
+    """With a crack the loads conjugate to enriched K unknowns scale as S L^1.5: at L = 1e105
+    and t = 1 the solve's norm of the load vector overflowed (measured) while S, S L and the
+    energy were representable."""
+    L = 1e60
+    dom = Domain.rectangle(0, 0, L, L)
+    kw = dict(supports=(Support("bottom", ux=0.0, uy=0.0),), tractions=(Traction("top", (0.0, 1e62)),))
+    Scene(dom, MAT, **kw)  # no crack: accepted
+    with pytest.raises(ValueError, match=r"the load on the enrichment \(SIF\) unknowns scale 1.68e\+152 "
+                                         r"\(from traction on 'top'.*rescale the units"):
+        Scene(dom, MAT, cracks=(Crack([[0.0, 0.5 * L], [0.5 * L, 0.5 * L]], (False, True), "c"),), **kw)
+
+
+def test_evaluated_loads_too_large_to_square():
+    from efgkit.problem.scene import evaluate_component, evaluate_vector
+
+    x = np.array([[1.0, 0.5]])
+    with pytest.raises(ValueError, match=r"a traction or body force evaluated to 1e\+200, too large to "
+                                         r"square without overflow.*rescale the units"):
+        evaluate_vector(lambda x: np.full((len(x), 2), 1e200), x, np.array([[1.0, 0.0]]), MAT)
+    with pytest.raises(ValueError, match=r"a prescribed displacement evaluated to 1e\+160, too large"):
+        evaluate_component(lambda x: np.full(len(x), 1e160), x, 0, MAT)
+
+
+def test_crack_too_short_for_any_spacing():
+    # a 1e-12 crack solved, then sifs() failed and the CLI showed a traceback
+    with pytest.raises(ValueError, match=r"crack 'c' is 1e-12 long, shorter than 1e-09 of the domain "
+                                         r"size 1.41421: no node spacing resolves it.*remove it, or make "
+                                         "it at least a few node spacings long"):
+        Scene(SQUARE, MAT, cracks=(Crack([[0.5, 0.5], [0.5 + 1e-12, 0.5]], name="c"),))
+    Scene(SQUARE, MAT, cracks=(Crack([[0.5, 0.5], [0.5 + 1e-8, 0.5]], name="c"),))  # accepted

@@ -4,6 +4,7 @@ lines, discontinuity across the faces, see-through, and the consistency of the s
 under every rule."""
 
 import warnings
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -30,6 +31,7 @@ def _rule(key: str, h: float) -> CrackRule:
 
 def _efg(key: str, n: int, **kw) -> EFG:
     r = _rule(key, 1.0)
+    kw.setdefault("enrichment", "none")  # the rules alone
     return EFG(spacing=2.0 / (n - 1), crack_rule=r.name, rule_power=r.power, kappa=r.kappa, **kw)
 
 
@@ -337,3 +339,108 @@ def test_a_line_through_a_kink_vertex_crosses_the_crack_once(name):
     cut, d, _ = crack_distances(xq, np.repeat(nodes.x, 3, axis=0), np.full(3, 2.0), np.zeros(3, int),
                                 nodes, lines, CrackRule(name, 2.0, 0.5, 1.0))
     assert cut[1] == cut[0] == cut[2] and abs(d[1] - d[0]) < 1e-6 and abs(d[1] - d[2]) < 1e-6
+
+
+# --- many segments: the candidate prefilter; nodes on a segment's line; huge coordinates --------
+
+ARC = Crack(np.array([0.003, 0.007]) + 0.61 * np.column_stack(
+    [np.cos(np.linspace(0.0, 1.5 * np.pi, 241)), np.sin(np.linspace(0.0, 1.5 * np.pi, 241))]), name="arc")
+KINKED = Crack([[-0.9, -0.8], [-0.55, -0.6], [-0.4, -0.85], [-0.1, -0.7]], (False, True), "kinked")
+ON_GRID = Crack([[0.75, -0.25], [0.75, -0.625], [0.5, -0.875]], name="on_grid")  # split nodes, a kink
+
+
+def _arc_pairs(n_points=3000, seed=12):
+    m = EFG(spacing=0.125, zones=(), enrichment="none")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UserWarning)
+        nodes = generate_nodes(SQUARE, m, (ARC, KINKED, ON_GRID))
+    x = np.random.default_rng(seed).uniform(-0.99, 0.99, (n_points, 2))
+    nb = find_neighbours(x, nodes)
+    rows, cols = np.nonzero(nb.mask)
+    I = nb.idx[rows, cols]
+    return nodes, x[rows], nodes.x[I], nodes.radius[I], I, CrackLines.from_cracks((ARC, KINKED, ON_GRID))
+
+
+@pytest.mark.parametrize("key", RULES)
+def test_candidate_prefilter_is_exact_on_a_polyline_of_many_segments(key, monkeypatch):
+    """A crack of 1000 segments hung in the crossing tests (all pairs against every segment):
+    only the pairs whose bounding box meets a segment's are tested now. Results are identical
+    to testing every pair (split nodes on the arc and the kinks included)."""
+    from efgkit.approx import crack_rules
+
+    nodes, xq, xn, dm, I, lines = _arc_pairs()
+    rule = _rule(key, 0.125)
+    got = crack_rules.crack_distances(xq, xn, dm, I, nodes, lines, rule)
+    cand = crack_rules.segment_candidates(xq, xn, lines)
+    assert sum(map(len, cand)) < 0.05 * len(xq) * lines.n  # the work that is left
+    monkeypatch.setattr(crack_rules, "segment_candidates",
+                        lambda xq, xn, lines: [np.arange(len(xq))] * lines.n)
+    every = crack_rules.crack_distances(xq, xn, dm, I, nodes, lines, rule)
+    touched = got[0] | (got[1] > np.hypot(*(xq - xn).T) * (1 + 1e-12))  # cut or lengthened
+    assert touched.sum() > 1000 and (nodes.face != 0).sum() == 8  # 4 split nodes, one at the kink
+    for a, b in zip(got, every, strict=True):
+        np.testing.assert_array_equal(a, b)
+
+
+def test_distance_to_many_segments_equals_brute_force():
+    lines = CrackLines.from_cracks((ARC, KINKED))
+    x = np.random.default_rng(3).uniform(-1.2, 1.2, (2000, 2))
+    brute = np.min([np.hypot(*(x - a - np.clip((x - a) @ (b - a) / ((b - a) @ (b - a)), 0, 1)[:, None]
+                               * (b - a)).T) for a, b in zip(lines.a, lines.b, strict=True)], axis=0)
+    np.testing.assert_allclose(lines.distance(x), brute, rtol=1e-15, atol=0)
+
+
+@pytest.mark.parametrize("off", [0.0, 1e-13, -1e-13, 3e-11])
+def test_a_node_on_the_line_ahead_of_the_tip_does_not_graze_the_crack(off):
+    """Transparency, issue [trust]: the node (0.25, off) ahead of the tip of y = 0, x < 0 sees
+    points 1e-12 below the crack. With off = 3e-11 (a tip moved by 1e-10 h) its rays grazed
+    the crack, s_c jumped from 0 to the point's arc across a layer 3e-11 thick, and the weight
+    gradient reached 4e10. A node within 1e-7 d_m of a segment's line beyond the segment
+    meets the line only at itself: the weights are those of the node on the line."""
+    lines = CrackLines.from_cracks((EDGE,))
+    nodes = NodeCloud(np.array([[0.25, off]]), np.array([0.5]), np.zeros(1, bool))
+    x = np.array([[-0.03, -1e-12], [-0.05, 1e-12], [-0.09, -5e-12]])
+    nb = find_neighbours(x, nodes)
+    rule = CrackRule("transparency", power=2.0, kappa=0.5, spacing=0.25)
+    _, w, dwx, dwy = crack_weights(x, nodes, nb, lines, rule, weight_function("quartic"))
+    w0, dw0 = pair_weights(x, nodes, nb, weight_function("quartic"), derivatives=True)
+    np.testing.assert_allclose(w, w0, rtol=0, atol=1e-12)
+    assert np.abs(np.stack([dwx, dwy], axis=-1)).max() < 10
+
+
+def test_a_split_node_meets_its_own_segment_at_itself():
+    """Transparency with a face node within kappa h of the tip: its rays to points on the other
+    face leave the crack at the node, so s_c is the node's arc whatever the point's distance
+    from the crack (before: the point's own arc below ~1e-7 d_m, a layer of steep weights)."""
+    lines = CrackLines.from_cracks((EDGE,))
+    nodes = NodeCloud(np.array([[-0.2, 0.0]]), np.array([0.5]), np.zeros(1, bool),
+                      face=np.array([1]), face_segment=np.array([0]))
+    rule = CrackRule("transparency", power=2.0, kappa=1.0, spacing=0.5)  # sbar = 0.5 > 0.2
+    dy = np.array([1e-13, 1e-10, 1e-8, 1e-6, 1e-4])
+    x = np.column_stack([np.full(len(dy), -0.05), -dy])
+    nb = find_neighbours(x, nodes)
+    _, w, dwx, dwy = crack_weights(x, nodes, nb, lines, rule, weight_function("quartic"))
+    s0 = np.hypot(*(x - nodes.x[0]).T)
+    s = (s0 + 0.5 * (0.2 / 0.5) ** 2) / 0.5  # Eq. (32) with s_c = 0.2, the node's arc
+    np.testing.assert_allclose(w[:, 0], 1 - 6 * s**2 + 8 * s**3 - 3 * s**4, rtol=1e-12)
+    assert np.abs(np.stack([dwx, dwy], axis=-1)).max() < 10
+
+
+@pytest.mark.parametrize("key", ["visibility", "diffraction_l2", "transparency_k05"])
+def test_crack_distances_at_huge_coordinates(key):
+    """Scaled by 2^460 (~1e138) the lengths (and weights) scale exactly and nothing overflows:
+    dt/dx of a crossing forms fourth powers of lengths, now in scaled coordinates."""
+    from efgkit.approx.crack_rules import crack_distances
+
+    nodes, xq, xn, dm, I, lines = _arc_pairs(600)
+    k = 460
+    big = NodeCloud(np.ldexp(nodes.x, k), np.ldexp(nodes.radius, k), nodes.boundary, nodes.face,
+                    nodes.face_segment)
+    cracks = [Crack(np.ldexp(c.vertices, k), c.tips, c.name) for c in (ARC, KINKED, ON_GRID)]
+    rule = _rule(key, 0.125)
+    cut, d, dd = crack_distances(xq, xn, dm, I, nodes, lines, rule)
+    cut2, d2, dd2 = crack_distances(np.ldexp(xq, k), np.ldexp(xn, k), np.ldexp(dm, k), I, big,
+                                    CrackLines.from_cracks(cracks), replace(rule, spacing=np.ldexp(0.125, k)))
+    np.testing.assert_array_equal(cut, cut2)
+    np.testing.assert_allclose(np.ldexp(d2, -k), d, rtol=1e-12)
+    np.testing.assert_allclose(dd2, dd, rtol=1e-9, atol=1e-9 * np.abs(dd).max())

@@ -16,6 +16,7 @@ from efgkit.io import (
     write_figure,
     write_json,
     write_nodes_vtu,
+    write_vtu,
 )
 from efgkit.problem.geometry import segments_intersect
 from efgkit.static import solve
@@ -139,6 +140,50 @@ def test_write_json_round_trip(tmp_path):
     assert back == {"a": 1.5, "b": [0, 1, 2], "c": [1, 2], "d": None, "e": str(tmp_path),
                     "f": {"g": True}, "z": {"E": 1.0, "nu": 0.25, "plane": "strain",
                                             "rho": None}}
+
+
+class _Spoiled:
+    """A solution with stresses scaled by ``factor`` and a NaN displacement at the first point
+    if ``nan_u`` (stand-ins for the loads too large to square, which the scene now refuses)."""
+
+    def __init__(self, sol, factor, nan_u):
+        self.scene, self.sol, self.factor, self.nan_u = sol.scene, sol, factor, nan_u
+
+    def displacement(self, x):
+        u = self.sol.displacement(x)
+        u[0] = np.nan if self.nan_u else u[0]
+        return u
+
+    def stress(self, x):
+        return self.factor * self.sol.stress(x)
+
+
+@pytest.mark.parametrize("factor,nan_u,field", [(1e160, False, "von_mises"), (1.0, True, "displacement")])
+def test_write_vtu_refuses_non_finite_fields(holed_solution, tmp_path, factor, nan_u, field):
+    # a traction of 1e300 solved and wrote inf into the VTU; the CLI then died in matplotlib.
+    # Stresses of 1e160 are finite, but von Mises squares them.
+    with pytest.raises(ValueError, match=rf"field '{field}' is NaN or inf at \d+ of \d+ points \(e.g. x = "
+                                         r"\[.*\]\); f.vtu is not written. Likely cause: values whose "
+                                         r"squares overflow .*rescale the units\) or a solve"):
+        write_vtu(_Spoiled(holed_solution, factor, nan_u), tmp_path / "f", n_target=300)
+    assert not (tmp_path / "f.vtu").exists()
+
+
+def test_write_nodes_vtu_refuses_non_finite_radii(holed_solution, tmp_path):
+    import dataclasses
+
+    nodes = dataclasses.replace(holed_solution.nodes, radius=np.full(holed_solution.nodes.n, np.nan))
+    with pytest.raises(ValueError, match=r"field 'support_radius' is NaN or inf at \d+ of \d+ points"):
+        write_nodes_vtu(nodes, tmp_path / "n.vtu")
+    assert not (tmp_path / "n.vtu").exists()
+
+
+def test_write_json_refuses_non_finite_arrays(tmp_path):
+    # a non-finite scalar is a value not available (null); a field with inf is an error
+    with pytest.raises(ValueError, match=r"array obj\['r'\]\[1\]\['u'\] holds NaN or inf; r.json is not "
+                                         "written. Likely cause: values whose squares overflow"):
+        write_json({"r": [{"u": np.zeros(2)}, {"u": np.array([1.0, np.inf])}]}, tmp_path / "r.json")
+    assert not (tmp_path / "r.json").exists()
 
 
 def test_jsonable_rejects_unknown_objects():

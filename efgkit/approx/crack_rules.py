@@ -24,7 +24,16 @@ Conventions that make every test deterministic:
   ``1e-7 d_mI`` off the crack on their face (at a kink vertex, into their face's
   sector), so ordinary crossing tests separate the two copies;
 * nodes within ``1e-7 d_mI`` of a tip are taken to be at the tip, so that a
-  tip moved by a tiny amount across a node changes nothing.
+  tip moved by a tiny amount across a node changes nothing;
+* a node within ``1e-7 d_mI`` of a segment's line meets that line only at itself: beyond
+  the segment (a node on the line ahead of a tip) its rays do not cross the segment, and a
+  split node's crossing of its own segment is at the node (transparency's s_c is its arc).
+  Otherwise a ray from a node a distance e off the line grazes the crack, and s_c ran from
+  the point's arc to the node's across a layer of width ~e along the faces; a tip moved
+  by 1e-10 h put thin cut cells, and their points, in that layer, where the weight
+  gradients reached 1e10 / d_mI (a solution change of 0.48).
+
+Only candidate pairs are tested (:func:`segment_candidates`): many short segments cost little.
 
 Seed 003 prints ds_c/dx_i as -cos(theta), -sin(theta) (Eq. 34, text below it),
 which ignores that the crossing point moves along the crack when x moves; the
@@ -42,10 +51,11 @@ from ..nodes import NodeCloud
 from ..search import Neighbours
 
 __all__ = ["CRACK_RULES", "CrackLines", "CrackRule", "crack_distances", "crack_weights",
-           "pair_arrays", "padded_weights", "wrap_distance"]
+           "pair_arrays", "padded_weights", "segment_candidates", "wrap_distance"]
 
 TIP_SNAP = 1e-7  # nodes closer than this fraction of their support radius to a tip are at it
 SIGHT_OFFSET = 1e-7  # split nodes look from this fraction of their support radius off the crack
+CANDIDATE_SLACK = 1e-6  # relative slack of the candidate test (rounding of grazing crossings)
 
 
 @dataclass(frozen=True)
@@ -123,13 +133,33 @@ class CrackLines:
     def n(self) -> int:
         return len(self.a)
 
+    def chunks(self) -> list[tuple[slice, np.ndarray, np.ndarray]]:
+        """About sqrt(m) runs of consecutive segments with their bounding boxes: (segments,
+        lower corner (2,), upper corner (2,)) each; the prefilters of the crossing and distance
+        tests, so that their cost grows with the segments near a point, not with all m."""
+        lo, hi = np.minimum(self.a, self.b), np.maximum(self.a, self.b)
+        size = max(1, round(np.sqrt(self.n)))
+        return [(slice(k, k + size), lo[k:k + size].min(axis=0), hi[k:k + size].max(axis=0))
+                for k in range(0, self.n, size)]
+
     def distance(self, x: np.ndarray) -> np.ndarray:
-        """Distance of points ``x (n, 2)`` to the nearest crack segment, shape (n,)."""
+        """Distance of points ``x (n, 2)`` to the nearest crack segment, shape (n,).
+
+        A run of segments (:meth:`chunks`) is measured only for the points whose distance to
+        its box does not exceed the farthest-corner distance of the nearest box (an upper
+        bound of the answer)."""
+        x = np.asarray(x, dtype=float).reshape(-1, 2)
         out = np.full(len(x), np.inf)
-        for a, b in zip(self.a, self.b, strict=True):
-            ab = b - a
-            t = np.clip((x - a) @ ab / (ab @ ab), 0.0, 1.0)
-            out = np.minimum(out, np.hypot(*(x - a - t[:, None] * ab).T))
+        runs = self.chunks()
+        near = np.stack([np.hypot(*np.maximum(np.maximum(lo - x, x - hi), 0.0).T) for _, lo, hi in runs])
+        far = np.stack([np.hypot(*np.maximum(np.abs(x - lo), np.abs(x - hi)).T) for _, lo, hi in runs])
+        bound = far.min(axis=0)
+        for (segs, _, _), lb in zip(runs, near, strict=True):
+            pts = np.flatnonzero(lb <= bound)
+            for a, b in zip(self.a[segs], self.b[segs], strict=True):
+                ab, xp = b - a, x[pts]
+                t = np.clip((xp - a) @ ab / (ab @ ab), 0.0, 1.0)
+                out[pts] = np.minimum(out[pts], np.hypot(*(xp - a - t[:, None] * ab).T))
         return out
 
     def tip_positions(self) -> np.ndarray:
@@ -148,19 +178,20 @@ def _crossings(xq, xn, lines: CrackLines, s: int):
     t (P,), dt (P, 2).
     """
     a, b = lines.a[s], lines.b[s]
-    e = b - a
-    side_x = np.where(_cross(e, xq - a) >= 0, 1, -1)
-    side_n = np.where(_cross(e, xn - a) >= 0, 1, -1)
-    v = xq - xn
-    num = _cross(xn - a, v)
+    # differences scaled by 2^-p ~ 1 / length (exact): dt forms 4th powers of lengths (overflow)
+    p = int(np.frexp(lines.length[s])[1])
+    e, qa, na, v = (np.ldexp(z, -p) for z in (b - a, xq - a, xn - a, xq - xn))
+    side_x = np.where(_cross(e, qa) >= 0, 1, -1)
+    side_n = np.where(_cross(e, na) >= 0, 1, -1)
+    num = _cross(na, v)
     den = _cross(e, v)
     ok = den != 0
-    t = np.where(ok, num / np.where(ok, den, 1.0), (xq - a) @ e / (e @ e))
+    t = np.where(ok, num / np.where(ok, den, 1.0), qa @ e / (e @ e))
     # dt/dx for t = num / den, num and den linear in v = x - x_I
-    dnum = np.stack([-(xn - a)[:, 1], (xn - a)[:, 0]], axis=1)
+    dnum = np.stack([-na[:, 1], na[:, 0]], axis=1)
     dden = np.array([-e[1], e[0]])
-    dt = np.where(ok[:, None], (dnum * den[:, None] - num[:, None] * dden)
-                  / np.where(ok, den, 1.0)[:, None] ** 2, 0.0)
+    dt = np.ldexp(np.where(ok[:, None], (dnum * den[:, None] - num[:, None] * dden)
+                           / np.where(ok, den, 1.0)[:, None] ** 2, 0.0), -p)
     k = lines.crack[s]
     first, last = s == 0 or lines.crack[s - 1] != k, s == lines.n - 1 or lines.crack[s + 1] != k
     # open at a tip; an interior vertex belongs to the segment that starts there, so a line
@@ -168,6 +199,46 @@ def _crossings(xq, xn, lines: CrackLines, s: int):
     lo = (t > 0) if (first and lines.is_tip[k, 0]) else (t >= 0)
     hi = (t <= 1) if (last and not lines.is_tip[k, 1]) else (t < 1)
     return (side_x != side_n) & lo & hi, t, dt
+
+
+def segment_candidates(xq: np.ndarray, xn: np.ndarray, lines: CrackLines) -> list[np.ndarray]:
+    """The pairs that may cross each crack segment: those whose bounding box meets the
+    segment's (a necessary condition; the boxes are grown by ``CANDIDATE_SLACK`` of the
+    lengths for rounding), found run by run of segments (:meth:`CrackLines.chunks`).
+
+    Parameters
+    ----------
+    xq, xn : ndarray, shape (P, 2)
+        The pairs' points and the positions the nodes look from.
+    lines : CrackLines
+        The m crack segments.
+
+    Returns
+    -------
+    list of ndarray
+        m sorted arrays of pair indices into ``xq`` (int, shape (k_s,)).
+    """
+    pad = CANDIDATE_SLACK * (np.hypot(*(xq - xn).T) + lines.length.max())
+    (x0, y0), (x1, y1) = np.minimum(xq, xn).T - pad, np.maximum(xq, xn).T + pad
+    slo, shi = np.minimum(lines.a, lines.b), np.maximum(lines.a, lines.b)
+    out = []
+    for segs, clo, chi in lines.chunks():
+        near = np.flatnonzero((x0 <= chi[0]) & (x1 >= clo[0]) & (y0 <= chi[1]) & (y1 >= clo[1]))
+        n0, n1, m0, m1 = x0[near], x1[near], y0[near], y1[near]
+        out += [near[(n0 <= shi[k, 0]) & (n1 >= slo[k, 0]) & (m0 <= shi[k, 1]) & (m1 >= slo[k, 1])]
+                for k in range(lines.n)[segs]]
+    return out
+
+
+def _nodes_on_line(xn, dm, lines: CrackLines, s: int):
+    """Nodes ``xn (k, 2)`` within ``SIGHT_OFFSET dm (k,)`` of the line of segment ``s``: on (k,),
+    whether that is within the segment (k,), and their parameter along it, clipped (k,)."""
+    a, e = lines.a[s], lines.b[s] - lines.a[s]
+    u = xn - a
+    tol = SIGHT_OFFSET * dm / lines.length[s]
+    tn = (u @ e) / (e @ e)
+    on = np.abs(_cross(e, u)) <= tol * (e @ e)
+    return on, (tn >= -tol) & (tn <= 1.0 + tol), np.clip(tn, 0.0, 1.0)
 
 
 def _arc_from_tip(lines: CrackLines, s: int, t):
@@ -240,16 +311,23 @@ def crack_distances(xq, xn, dm, I, nodes: NodeCloud, lines: CrackLines, rule: Cr
     hits = np.zeros((len(I), n_cracks), np.int64)
     sc = np.full(len(I), np.inf)  # transparency: arc distance of the crossing from the tip
     dsc = np.zeros((len(I), 2))
-    for s in range(lines.n):
-        hit, t, dt = _crossings(xq, sight, lines, s)
+    split = np.zeros(len(I), bool) if nodes.face is None else nodes.face[I] != 0
+    for s, idx in enumerate(segment_candidates(xq, sight, lines)):
+        if len(idx) == 0:
+            continue
+        hit, t, dt = _crossings(xq[idx], sight[idx], lines, s)
+        on, inside, tn = _nodes_on_line(xn[idx], dm[idx], lines, s)
+        hit &= ~on | inside  # a node on the line beyond the segment meets the line only at itself
         if not hit.any():
             continue
-        hits[:, lines.crack[s]] += hit
-        if rule.name == "transparency":
+        hits[idx, lines.crack[s]] += hit
+        if rule.name == "transparency":  # a split node's rays leave its segment at the node
+            at = on & inside & split[idx]
+            t, dt = np.where(at, tn, t), np.where(at[:, None], 0.0, dt)
             arc, darc = _arc_from_tip(lines, s, t)
-            take = hit & (arc < sc)
-            sc = np.where(take, arc, sc)
-            dsc = np.where(take[:, None], darc[:, None] * dt, dsc)
+            take = hit & (arc < sc[idx])
+            sc[idx] = np.where(take, arc, sc[idx])
+            dsc[idx] = np.where(take[:, None], darc[:, None] * dt, dsc[idx])
     n_hit = hits.sum(axis=1)
     diff = xq - xn
     s0 = np.hypot(*diff.T)

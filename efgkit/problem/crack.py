@@ -19,6 +19,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .geometry import check_coordinates
+
 __all__ = ["FACE_OFFSET", "Crack", "Tip"]
 
 # Points on a crack face sit this many local spacings off the crack line, on their face, so
@@ -61,20 +63,33 @@ class Tip:
         return np.array([[c, s], [-s, c]])
 
 
-def _segments_cross(a, b, c, d, eps) -> bool:
-    """Whether segments ab and cd share a point (scalar test, touching counts)."""
+def _first_crossing(v: np.ndarray, i: int, scale: float) -> int | None:
+    """The first segment j >= i + 2 of the polyline ``v (n + 1, 2)`` that shares a point with
+    segment i (touching counts), or None.
+
+    The orientations are formed in coordinates scaled by a power of two (exact, so the tests
+    are those of the unscaled values), which keeps their products finite up to the coordinate
+    limit; ``scale`` is the crack length (the tolerance ``(1e-12 scale)^2``).
+    """
+    k = min(0, -int(np.frexp(np.abs(v).max())[1]))  # shrink only
+    w = np.ldexp(v, k)
+    eps_on = (1e-12 * scale * 2.0**k) ** 2  # compares orientations (scaled by 2^2k)
+    eps_cross = (1e-12 * scale * 2.0 ** (2 * k)) ** 2  # compares their products (by 2^4k)
+    a, b, c, d = w[i], w[i + 1], w[i + 2:-1], w[i + 3:]
+
     def orient(p, q, r):
-        return (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])
+        return (q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1]) - (q[..., 1] - p[..., 1]) * (
+            r[..., 0] - p[..., 0])
+
+    def on(p, q, r, o):  # the bounding-box tests in the given coordinates
+        return (np.abs(o) <= eps_on) & np.all(np.minimum(p, q) - 1e-12 <= r, axis=-1) & np.all(
+            r <= np.maximum(p, q) + 1e-12, axis=-1)
 
     o1, o2, o3, o4 = orient(a, b, c), orient(a, b, d), orient(c, d, a), orient(c, d, b)
-    if o1 * o2 < -eps and o3 * o4 < -eps:
-        return True
-
-    def on(p, q, r, o):
-        return abs(o) <= eps and np.all(np.minimum(p, q) - 1e-12 <= r) and np.all(
-            r <= np.maximum(p, q) + 1e-12)
-
-    return on(a, b, c, o1) or on(a, b, d, o2) or on(c, d, a, o3) or on(c, d, b, o4)
+    va, vb, vc, vd = v[i], v[i + 1], v[i + 2:-1], v[i + 3:]
+    hit = ((o1 * o2 < -eps_cross) & (o3 * o4 < -eps_cross)) | on(va, vb, vc, o1) | on(
+        va, vb, vd, o2) | on(vc, vd, va, o3) | on(vc, vd, vb, o4)
+    return i + 2 + int(np.argmax(hit)) if hit.any() else None
 
 
 @dataclass(frozen=True)
@@ -99,7 +114,9 @@ class Crack:
     ValueError
         Zero-length segments (duplicate consecutive vertices), a polyline that
         crosses or touches itself (including a segment that doubles back),
-        a crack with no tip, non-finite vertices.
+        a crack with no tip, non-finite vertices, coordinates beyond
+        :data:`~efgkit.problem.geometry.COORDINATE_LIMIT` (1e150) or spanning less
+        than its inverse (their squares overflow or underflow).
 
     Examples
     --------
@@ -123,6 +140,7 @@ class Crack:
         if not np.all(np.isfinite(v)):
             k = int(np.argmax(~np.isfinite(v).all(axis=1)))
             raise ValueError(f"crack {self.name!r}: vertex {k} is not finite ({v[k].tolist()})")
+        check_coordinates(f"crack {self.name!r}: vertices", v)
         seg = np.linalg.norm(np.diff(v, axis=0), axis=1)
         scale = float(seg.sum())
         if np.any(seg <= 1e-12 * max(scale, 1e-300)):
@@ -148,19 +166,18 @@ class Crack:
 
     def _check_simple(self, v, scale):
         n = len(v) - 1
-        eps = (1e-12 * scale) ** 2
         for i in range(n - 1):  # adjacent segments: doubling back (angle of 180 degrees)
             d0, d1 = v[i + 1] - v[i], v[i + 2] - v[i + 1]
             cross = d0[0] * d1[1] - d0[1] * d1[0]
             if abs(cross) <= 1e-12 * np.linalg.norm(d0) * np.linalg.norm(d1) and d0 @ d1 < 0:
                 raise ValueError(f"crack {self.name!r} doubles back on itself at vertex {i + 1} "
                                  f"{v[i + 1].tolist()}: self-intersecting")
-        for i in range(n):
-            for j in range(i + 2, n):
-                if _segments_cross(v[i], v[i + 1], v[j], v[j + 1], eps):
-                    raise ValueError(
-                        f"crack {self.name!r} intersects itself: segments {i} and {j} "
-                        f"(vertices {i}-{i + 1} and {j}-{j + 1}) meet")
+        for i in range(n - 2):  # vectorised over the later segments
+            j = _first_crossing(v, i, scale)
+            if j is not None:
+                raise ValueError(
+                    f"crack {self.name!r} intersects itself: segments {i} and {j} "
+                    f"(vertices {i}-{i + 1} and {j}-{j + 1}) meet")
 
     @property
     def segments(self) -> np.ndarray:

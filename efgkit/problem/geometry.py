@@ -18,9 +18,30 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["Domain", "Loop", "Edge"]
+__all__ = ["COORDINATE_LIMIT", "Domain", "Loop", "Edge", "check_coordinates", "segments_intersect"]
 
 _ARC_STEP = 2 * math.pi / 720  # polyline resolution of arcs: sag 1e-5 R
+
+# Coordinates are squared (lengths, areas, weights, energies): beyond 1e150 a square overflows
+COORDINATE_LIMIT = 1e150  # float64 (max 1.8e308), and a body smaller than 1e-150 squares to zero
+
+
+def check_coordinates(what: str, x) -> None:
+    """A ValueError (naming ``what``, the value, the limit and the remedy) for finite points
+    ``x (n, 2)`` with a coordinate beyond :data:`COORDINATE_LIMIT` in magnitude, or spanning
+    less than its inverse (but more than 0): their squares overflow or underflow."""
+    x = np.asarray(x, dtype=float).reshape(-1, 2)
+    big = np.abs(x).max(axis=1) > COORDINATE_LIMIT
+    if big.any():
+        k = int(np.argmax(big))
+        raise ValueError(
+            f"{what}: coordinate {k} {x[k].tolist()} is too large to square without overflow "
+            f"(|x| <= {COORDINATE_LIMIT:g}: lengths, areas and energies are computed from squares, "
+            "and float64 ends at 1.8e308); rescale the units (e.g. m instead of nm)")
+    span = float(np.ptp(x, axis=0).max()) if len(x) else 0.0
+    if 0 < span < 1.0 / COORDINATE_LIMIT:
+        raise ValueError(f"{what} span {span:.3g}, too small to square without underflow (span >= "
+                         f"{1 / COORDINATE_LIMIT:g}); rescale the units (e.g. nm instead of m)")
 
 
 @dataclass(frozen=True)
@@ -135,6 +156,7 @@ class Loop:
             )
         if not np.all(np.isfinite(v)) or not np.all(np.isfinite(s)):
             raise ValueError("loop vertices and sweeps must be finite (no NaN or inf)")
+        check_coordinates("loop vertices (and arc centres)", np.vstack([v, c[np.isfinite(c).all(axis=1)]]))
         object.__setattr__(self, "vertices", v)
         object.__setattr__(self, "names", names)
         object.__setattr__(self, "centres", c)
@@ -229,10 +251,14 @@ def segments_intersect(a, b, c, d) -> np.ndarray:
     def orient(p, q, r):
         return (q[:, 0] - p[:, 0]) * (r[:, 1] - p[:, 1]) - (q[:, 1] - p[:, 1]) * (r[:, 0] - p[:, 0])
 
-    scale = np.maximum(np.abs(b - a).max(axis=1), np.abs(d - c).max(axis=1)) ** 2
+    # orientations (squares) and their products (fourth powers) in coordinates scaled by a
+    # power of two per row: exact, the same comparisons, and no overflow up to COORDINATE_LIMIT
+    e = -np.frexp(np.abs(np.stack(np.broadcast_arrays(a, b, c, d), 1)).max(axis=(1, 2)))[1][:, None]
+    sa, sb, sc, sd = (np.ldexp(z, e) for z in (a, b, c, d))
+    scale = np.maximum(np.abs(sb - sa).max(axis=1), np.abs(sd - sc).max(axis=1)) ** 2
     eps = 1e-12 * scale
-    o1, o2 = orient(a, b, c), orient(a, b, d)
-    o3, o4 = orient(c, d, a), orient(c, d, b)
+    o1, o2 = orient(sa, sb, sc), orient(sa, sb, sd)
+    o3, o4 = orient(sc, sd, sa), orient(sc, sd, sb)
     proper = (o1 * o2 < -eps**2) & (o3 * o4 < -eps**2)
 
     def on(p, q, r, o):  # r on segment pq, given orient(p, q, r) = o

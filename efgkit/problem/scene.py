@@ -16,12 +16,22 @@ import numpy as np
 
 from .crack import Crack
 from .exact.fields import Field
-from .geometry import Domain
+from .geometry import COORDINATE_LIMIT, Domain
 from .material import Elastic
 
-__all__ = ["Scene", "Support", "Traction", "evaluate_vector", "evaluate_component"]
+__all__ = ["MIN_CRACK_LENGTH", "VALUE_LIMIT", "Scene", "Support", "Traction", "evaluate_vector",
+           "evaluate_component"]
 
 Where = str | Callable  # edge name or x (n, 2) -> bool mask (n,)
+
+# Prescribed values, and the stress, force, displacement and square-root-of-energy scales of a
+# scene, are squared on the way (norms, energies, von Mises): they must lie within
+# [1 / VALUE_LIMIT, VALUE_LIMIT] for the squares to be normal float64 numbers.
+VALUE_LIMIT = COORDINATE_LIMIT
+# Cracks shorter than this fraction of the domain size are refused (the Scene knows no spacing;
+# a crack must also be a few spacings long for its SIFs, which the J domains check).
+MIN_CRACK_LENGTH = 1e-9
+_RESCALE = "rescale the units (e.g. MPa and mm instead of Pa and m)"
 
 
 def _check_value(what: str, v, vector: bool) -> None:
@@ -32,6 +42,9 @@ def _check_value(what: str, v, vector: bool) -> None:
         raise ValueError(f"{what} must be {'a 2-vector' if vector else 'a float'}, got {v!r}")
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"{what} must be finite, got {v!r}")
+    if np.abs(arr).max() > VALUE_LIMIT:
+        raise ValueError(f"{what} = {v!r} is too large to square without overflow (|value| <= "
+                         f"{VALUE_LIMIT:g}; the energy and the norms of the solve square it); {_RESCALE}")
 
 
 @dataclass(frozen=True)
@@ -114,6 +127,7 @@ class Scene:
                     )
         _check_cracks(self.cracks, self.domain)
         _check_value("body_force", self.body_force, vector=True)
+        _check_scales(self)
         if self.duration is not None and not (math.isfinite(self.duration) and self.duration > 0):
             raise ValueError(f"duration must be finite and > 0 (or None), got {self.duration!r}")
 
@@ -148,6 +162,12 @@ def _check_cracks(cracks, domain: Domain) -> None:
         if c.name in names:
             raise ValueError(f"two cracks are named {c.name!r}: crack names must be unique")
         names.add(c.name)
+        if c.length < MIN_CRACK_LENGTH * domain.size:
+            raise ValueError(
+                f"crack {c.name!r} is {c.length:.3g} long, shorter than {MIN_CRACK_LENGTH:g} of the "
+                f"domain size {domain.size:.6g}: no node spacing resolves it (its SIFs would need "
+                "J domains holding points within a fraction of its length); remove it, or make "
+                "it at least a few node spacings long")
         v = c.vertices
         dist = domain.distance_to_boundary(v)
         inside = domain.contains(v)
@@ -188,6 +208,54 @@ def _check_cracks(cracks, domain: Domain) -> None:
                     "crossing or branching cracks are not supported")
 
 
+def _check_scales(scene: Scene) -> None:
+    """Refuse constant loads whose stress, force, displacement or energy scale has a square
+    outside the normal float64 range (a traction of 1e300 solved to inf and NaN, one of
+    1e-200 to zero displacement).
+
+    Scales, from the largest constant load (L the domain size, A its area, E the modulus):
+    stress S = |t|, |p| (crack pressure), |b| L (body force) or E |u| / L (prescribed
+    displacement); force S L; displacement S L / E; energy S^2 A / E, whose square root is
+    checked; with cracks also K = S sqrt(L), sqrt(J) = K / sqrt(E) and S L^1.5 (the load on
+    enriched SIF unknowns). Loads given as callables or Fields are checked where evaluated.
+    """
+    dom, E = scene.domain, scene.material.E
+    L = dom.size
+    lL, lE = math.log10(L), math.log10(E)
+    found = []  # (log10 of the stress scale, its source), in logs: nothing overflows here
+    for t in scene.tractions:
+        if not (callable(t.t) or isinstance(t.t, Field)):
+            found.append((math.hypot(*map(float, t.t)), 0.0, f"traction on {t.edge!r}: t = {t.t!r}"))
+    b = scene.body_force
+    if b is not None and not (callable(b) or isinstance(b, Field)):
+        found.append((math.hypot(*map(float, b)), lL, f"body_force = {b!r} (times the domain size)"))
+    found += [(abs(c.pressure), 0.0, f"crack {c.name!r}: pressure = {c.pressure!r}") for c in scene.cracks]
+    for sup in scene.supports:
+        for key in ("ux", "uy"):
+            u = getattr(sup, key)
+            if u is not None and not (callable(u) or isinstance(u, Field)):
+                found.append((abs(float(u)), lE - lL, f"support on {sup.edge!r}: {key} = {u!r} (E u / L)"))
+    found = [(math.log10(v) + shift, src) for v, shift, src in found if v > 0]
+    if not found:
+        return
+    lS, source = max(found, key=lambda f: f[0])
+    log = {"stress": lS, "force": lS + lL, "displacement": lS + lL - lE,
+           "square root of the energy": lS + 0.5 * (math.log10(dom.area) - lE)}
+    if scene.cracks:  # K ~ S sqrt(L), J ~ K^2 / E, and the load on enriched K unknowns ~ S L^1.5
+        log.update({"stress intensity": lS + 0.5 * lL, "square root of J": lS + 0.5 * (lL - lE),
+                    "load on the enrichment (SIF) unknowns": lS + 1.5 * lL})
+    top = math.log10(VALUE_LIMIT)
+    for what, lg in log.items():
+        if abs(lg) > top:
+            e = math.floor(lg)
+            raise ValueError(
+                f"the loads are too {'large' if lg > 0 else 'small'} for float64: the {what} scale "
+                f"{10 ** (lg - e):.3g}e{e:+d} (from {source}, domain size {L:.3g}, E = {E:.3g}) lies outside "
+                f"[{1 / VALUE_LIMIT:g}, {VALUE_LIMIT:g}], so its square "
+                f"{'overflows' if lg > 0 else 'underflows to zero'} in the energy and the norms of "
+                f"the solve; {_RESCALE}")
+
+
 def evaluate_component(value, x: np.ndarray, comp: int, material: Elastic) -> np.ndarray:
     """Evaluate a prescribed scalar (float / callable / Field component) at ``x (n, 2)`` -> (n,)."""
     if isinstance(value, Field):
@@ -199,7 +267,15 @@ def evaluate_component(value, x: np.ndarray, comp: int, material: Elastic) -> np
         out = np.full(len(x), float(value))
     if not np.all(np.isfinite(out)):
         raise ValueError("a prescribed displacement evaluated to NaN or inf on the boundary")
+    _check_evaluated("a prescribed displacement", out)
     return out
+
+
+def _check_evaluated(what: str, out: np.ndarray) -> None:
+    big = np.abs(out).max(initial=0.0)
+    if big > VALUE_LIMIT:
+        raise ValueError(f"{what} evaluated to {big:.3g}, too large to square without overflow "
+                         f"(|value| <= {VALUE_LIMIT:g}); {_RESCALE}")
 
 
 def evaluate_vector(value, x: np.ndarray, normal: np.ndarray, material: Elastic) -> np.ndarray:
@@ -217,6 +293,7 @@ def evaluate_vector(value, x: np.ndarray, normal: np.ndarray, material: Elastic)
         out = np.broadcast_to(np.asarray(value, dtype=float), (len(x), 2)).copy()
     if not np.all(np.isfinite(out)):
         raise ValueError("a traction or body force evaluated to NaN or inf")
+    _check_evaluated("a traction or body force", out)
     return out
 
 
