@@ -1,6 +1,7 @@
 """Linear solvers: CG with the auxiliary-space preconditioner agrees with SuperLU for
-every SPD essential-BC method, residuals are checked, and bad systems raise."""
+every SPD essential-BC method, residuals and error bounds are checked, and bad systems raise."""
 
+import re
 import warnings
 
 import numpy as np
@@ -9,10 +10,11 @@ from scipy.sparse import csr_array
 
 from efgkit import EFG, Domain, Elastic, Loop, Scene, Support, Traction, solve
 from efgkit.methods.boundary import essential_conditions, loads
+from efgkit.system import linalg
 from efgkit.system.assemble import stiffness
 from efgkit.system.auxiliary import chebyshev_inverse, p1_stiffness
 from efgkit.system.constraints import LinearSystem, penalty, rigid_body_modes
-from efgkit.system.linalg import SolverError
+from efgkit.system.linalg import ERROR_FACTOR, SolverError
 from efgkit.system.linalg import solve as linear_solve
 
 
@@ -35,6 +37,8 @@ def test_cg_with_auxiliary_preconditioner_matches_direct(bc, hole):
     # Both residuals are checked against rtol = 1e-8; the solutions agree accordingly.
     rel = np.linalg.norm(it.coeffs - direct.coeffs) / np.linalg.norm(direct.coeffs)
     assert rel < 1e-6
+    # The energy-error bound that certifies CG's answer (measured 1.7e-10 to 2.8e-10).
+    assert it.info["error_bound"] < 1e-9
     # A good preconditioner: the iteration count stays small (about 30-50 here).
     assert it.info["iterations"] < 150
 
@@ -50,21 +54,25 @@ def test_lagrange_by_uzawa_steps_matches_direct(hole):
     assert it.info["residual"] <= 1e-8 and it.info["uzawa_steps"] <= 5
     rel = np.linalg.norm(it.coeffs - direct.coeffs) / np.linalg.norm(direct.coeffs)
     assert rel < 1e-6
+    assert it.info["error_bound"] < 1e-9  # measured 1.9e-10 and 2.8e-10
 
 
 def test_cracked_square_with_one_node_aggregates():
     """The edge-cracked square of seed 003 Sect. 5.6.1 on 61 x 61 nodes: the coarsest
     multigrid level is singular (measured: LU fails, 'Factor is exactly singular'), and the
-    pseudo-inverse takes over; penalty and Lagrange both converge."""
+    pseudo-inverse takes over; penalty and Lagrange both converge. With the Williams field
+    prescribed on every edge the default penalty has the largest energy-error bound seen at
+    default settings (measured 1.05e-4, true error 5.7e-5), still below ERROR_FACTOR * rtol."""
     from efgkit import Crack, Field
 
     W = Field.named("williams", KI=1.0)
     scene = Scene(Domain.rectangle(-1, -1, 1, 1), Elastic(1.0, 0.3),
                   supports=tuple(Support(e, ux=W, uy=W) for e in ("left", "bottom", "right", "top")),
                   cracks=(Crack([[-1.0, 0.0], [0.0, 0.0]], tips=(False, True)),))
-    for bc in ("penalty", "lagrange"):
+    for bc, bound in (("penalty", 3e-4), ("lagrange", 1.5e-7)):  # measured 1.05e-4, 4.9e-8
         sol = solve(scene, EFG(spacing=2 / 60, bc=bc, solver="amg"))
         assert sol.info["converged"] and sol.info["residual"] <= 1e-8, bc
+        assert sol.info["error_bound"] < min(bound, ERROR_FACTOR * 1e-8), bc
 
 
 def test_coarse_solver_falls_back_to_the_pseudo_inverse():
@@ -85,6 +93,59 @@ def test_smoothed_aggregation_without_discretisation():
     system = penalty(K, loads(d), essential_conditions(d, False), 1e3 * 1000.0 / 0.1, d.nodes.x)
     z, info = linear_solve(system, "amg", near_nullspace=rigid_body_modes(d.nodes.x))
     assert info["preconditioner"] == "smoothed_aggregation" and info["residual"] <= 1e-8
+
+
+def _cantilever():
+    """The Timoshenko cantilever of verification/cantilever.py: 48 x 12, E = 3e7, end shear 1000."""
+    from efgkit import Field
+
+    f = Field.named("cantilever", L=48.0, D=12.0, P=1000.0)
+    return Scene(Domain.rectangle(0.0, -6.0, 48.0, 6.0), Elastic(3e7, 0.3, "stress"),
+                 supports=(Support("left", ux=f, uy=f),), tractions=(Traction("right", f),), exact=f)
+
+
+def _tip_uy(sol):
+    return float(sol.displacement([[48.0, 0.0]])[0, 1])
+
+
+@pytest.mark.filterwarnings(r"ignore:penalty=1e\+10:UserWarning")  # the locking warning: test_static
+def test_large_penalty_cg_answer_refused_or_replaced(monkeypatch):
+    """Issue [trust] at 1274 unknowns (h = 1): with penalty 1e10 E/h the prescribed-displacement
+    rows dominate b, and CG stops after one step at a relative residual of 3.4e-10 with the tip
+    deflection 13.6 % off (7.45e-3 against SuperLU's 8.62e-3; 37 % in the coefficients at 18.9k
+    unknowns, h = 0.25). The energy-error bound sees it: "amg" refuses, "auto" takes SuperLU."""
+    scene = _cantilever()
+    method = EFG(spacing=1.0, bc="penalty", penalty=1e10, solver="amg")
+    direct = solve(scene, EFG(spacing=1.0, bc="penalty", penalty=1e10, solver="direct"))
+    tip = _tip_uy(direct)
+    # Without the check the old answer comes back, and the bound (measured 0.222) holds the true
+    # stiffness-energy error (measured 0.216).
+    monkeypatch.setattr(linalg, "ERROR_FACTOR", 1e20)
+    wrong = solve(scene, method, disc=direct.disc)
+    assert wrong.info["residual"] < 1e-9 and wrong.info["iterations"] == 1
+    assert abs(_tip_uy(wrong) - tip) > 0.05 * abs(tip)  # measured 0.136
+    K = stiffness(direct.disc.shape, direct.disc.points.w, scene.material.D)
+    e = wrong.coeffs - direct.coeffs
+    err = np.sqrt(e @ (K @ e) / (direct.coeffs @ (K @ direct.coeffs)))
+    assert 0.1 < err <= wrong.info["error_bound"] < 0.5
+    monkeypatch.undo()
+
+    with pytest.raises(SolverError) as exc:
+        solve(scene, method, disc=direct.disc)
+    msg = str(exc.value)
+    assert msg.startswith("solver='amg': its relative residual ")
+    assert "meets rtol = 1e-08 after 1 iteration, but the bound on its relative energy error is" in msg
+    assert re.search(r"error is [1-4]\.\de-01 > 1e-03 \(ERROR_FACTOR \* rtol\)", msg)  # 2.2e-01
+    assert re.search(r"boundary terms is 8\.8e\+09 times the stiffness's", msg)
+    assert "Remedy: solver='direct'" in msg and "bc='lagrange'" in msg
+
+    monkeypatch.setattr(linalg, "AUTO_AMG_THRESHOLD", 1000)
+    auto = solve(scene, EFG(spacing=1.0, bc="penalty", penalty=1e10), disc=direct.disc)
+    assert auto.info["solver"] == "direct" and auto.info["iterations"] == 1
+    assert "the bound on its relative energy error is" in auto.info["fallback"]
+    assert abs(_tip_uy(auto) - tip) <= 1e-6 * abs(tip)
+    rel = np.linalg.norm(auto.coeffs - direct.coeffs) / np.linalg.norm(direct.coeffs)
+    assert rel <= 1e-6
 
 
 def test_p1_stiffness_has_rigid_body_kernel():

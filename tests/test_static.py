@@ -1,10 +1,13 @@
 """Static solves against closed forms: body force (quadratic manufactured solution),
 tractions from analytic fields, essential-BC methods agree, stresses where asked."""
 
+import warnings
+
 import numpy as np
 import pytest
 
 from efgkit import EFG, Domain, Elastic, Scene, Support, Traction, solve
+from efgkit.system import linalg
 
 MAT = Elastic(100.0, 0.25, "stress")
 C = np.array([[1e-3, -2e-3, 1.5e-3], [0.5e-3, 1e-3, -1e-3]])  # quadratic coefficients
@@ -62,6 +65,53 @@ def test_bc_methods_agree_on_cantilever():
             for bc in ("lagrange", "variational", "penalty")}
     # all converge to the same discretisation error (measured ~1e-2)
     assert max(errs.values()) < 1.3 * min(errs.values()) and max(errs.values()) < 0.05
+
+
+def _cantilever(L=8.0, D=2.0, P=1.0, mat=MAT):
+    from efgkit.problem.exact.fields import Field
+
+    f = Field.named("cantilever", L=L, D=D, P=P)
+    return Scene(Domain.rectangle(0, -D / 2, L, D / 2), mat, supports=(Support("left", ux=f, uy=f),),
+                 tractions=(Traction("right", f),), exact=f)
+
+
+def test_large_penalty_warns_of_locking():
+    scene = _cantilever()
+    with pytest.warns(UserWarning) as record:
+        locked = solve(scene, EFG(spacing=0.25, bc="penalty", penalty=1e10))
+    (w,) = [r for r in record if "locking" in str(r.message)]
+    msg = str(w.message)
+    assert msg.startswith("penalty=1e+10 (beta = penalty * E / h) with bc='penalty' over-constrains")
+    assert "11-68 times (0.10-0.22) from 1e8 on" in msg
+    assert msg.endswith("Remedy: the default penalty=None (1e3), or bc='lagrange'")
+    # what it warns of, on this cantilever (h = 0.25, 594 unknowns): energy error 0.201 against
+    # 0.0132 with Lagrange multipliers and 0.0135 at the default penalty
+    lagrange = solve(scene, EFG(spacing=0.25, bc="lagrange"), disc=locked.disc)
+    assert locked.errors()["energy"] > 5 * lagrange.errors()["energy"]  # measured 15x
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UserWarning)
+        for pen in (None, 1e5):  # the default and the largest factor below LOCKING_PENALTY tried
+            solve(scene, EFG(spacing=0.25, bc="penalty", penalty=pen), disc=locked.disc)
+
+
+def test_default_settings_take_cg_and_agree_with_direct(monkeypatch):
+    """With "auto" above AUTO_AMG_THRESHOLD (lowered here to reach CG at 1274 unknowns) the
+    default penalty is certified by the energy-error bound, not replaced by SuperLU."""
+    from efgkit.system.assemble import stiffness
+
+    scene = _cantilever(48.0, 12.0, 1000.0, Elastic(3e7, 0.3, "stress"))
+    direct = solve(scene, EFG(spacing=1.0, solver="direct"))
+    monkeypatch.setattr(linalg, "AUTO_AMG_THRESHOLD", 1000)
+    it = solve(scene, EFG(spacing=1.0), disc=direct.disc)
+    assert it.info["solver"] == "amg" and "fallback" not in it.info
+    assert it.info["error_bound"] < 2e-6  # measured 6.3e-7
+    rel = np.linalg.norm(it.coeffs - direct.coeffs) / np.linalg.norm(direct.coeffs)
+    assert rel < 1e-7  # measured 2.9e-8
+    tip = [[48.0, 0.0]]
+    assert it.displacement(tip)[0, 1] == pytest.approx(direct.displacement(tip)[0, 1], rel=1e-7)  # 3.1e-8
+    K = stiffness(direct.disc.shape, direct.disc.points.w, scene.material.D)
+    e = it.coeffs - direct.coeffs
+    assert np.sqrt(e @ (K @ e) / (direct.coeffs @ (K @ direct.coeffs))) <= it.info["error_bound"]  # 3.6e-7
 
 
 def test_strain_energy_equals_half_work_of_loads():

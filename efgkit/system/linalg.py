@@ -10,6 +10,10 @@ given the discretisation and the bare stiffness; otherwise pyamg smoothed
 aggregation with rigid-body modes on the system matrix itself, which is
 several times slower on EFG matrices (dense strength graph, oscillatory
 low-energy modes).
+
+A small residual does not certify CG's answer on an ill-conditioned system (penalty 1e10 E/h:
+relative residual 1.7e-10, coefficients 37 % off), so a bound on its energy error
+(:func:`_error_bound`) must also stay below ``ERROR_FACTOR * rtol``.
 """
 
 from __future__ import annotations
@@ -18,17 +22,26 @@ import time
 import warnings
 
 import numpy as np
+from scipy.linalg import eigvalsh_tridiagonal
 from scipy.sparse import csc_array, csr_array, diags_array
-from scipy.sparse.linalg import LinearOperator, MatrixRankWarning, cg, splu
+from scipy.sparse.linalg import LinearOperator, MatrixRankWarning, splu
 
 from .constraints import LinearSystem
 
-__all__ = ["solve", "SolverError", "AUTO_AMG_THRESHOLD"]
+__all__ = ["solve", "SolverError", "AUTO_AMG_THRESHOLD", "ERROR_FACTOR"]
 
 AUTO_AMG_THRESHOLD = 20_000  # unknowns above which "auto" uses CG for SPD systems
 MAX_ITERATIONS = 400
 AUGMENTATION = 1e3  # augmented-Lagrangian weight: its largest diagonal entry over K's
 MAX_UZAWA_STEPS = 20
+# An iterative answer is accepted if the bound on its relative energy error (_error_bound) is at most
+# ERROR_FACTOR * rtol (1e-3 at the default rtol): the bound over the residual measures how far the
+# conditioning amplifies a residual. Measured bounds, CG to rtol 1e-8 (true errors about half):
+# cantilever 48 x 12, 1.3k-29k unknowns, default penalty 6e-7 to 2.6e-6, Nitsche 2e-7; Uzawa steps 5e-8;
+# cracked square with Williams displacements on all edges, 7.5k and 29k unknowns, default penalty 1.1e-4
+# (the largest seen at default settings). Refused: penalty 1e8 / 1e10 E/h on the cantilever, 3.5e-2 /
+# 0.22-0.50 (the coefficients 0.1-37 % off); 1e4 E/h on the cracked square, 3.7e-3.
+ERROR_FACTOR = 1e5
 
 
 class SolverError(RuntimeError):
@@ -110,25 +123,92 @@ def _compact(A) -> csr_array:
 
 
 def _cg(A, b, M, atol, x0=None):
-    """CG to ``||A x - b|| <= atol``; returns x, iterations, converged."""
-    count = [0]
+    """Preconditioned CG to ``||b - A x|| < atol`` in MAX_ITERATIONS steps: scipy.sparse.linalg.cg's
+    recurrences (scipy 1.17) operation for operation, the same iterates to the last digit, keeping
+    ``rho_j = r_j^T M r_j`` and ``alpha_j`` for :func:`_ritz_range`. Returns x (n,), rho (k,),
+    alpha (k,) for the k steps taken, and whether ``atol`` was met."""
+    x = np.zeros(len(b)) if x0 is None else np.array(x0, dtype=float)
+    r = b - A @ x if x.any() else b.copy()
+    rho, alpha, p = [], [], None
+    for _ in range(MAX_ITERATIONS):
+        if np.linalg.norm(r) < atol:
+            return x, np.array(rho), np.array(alpha), True
+        z = M.matvec(r)
+        rho.append(np.dot(r, z))
+        if p is None:
+            p = z.copy()
+        else:
+            p *= rho[-1] / rho[-2]
+            p += z
+        q = A @ p
+        alpha.append(rho[-1] / np.dot(p, q))
+        x += alpha[-1] * p
+        r -= alpha[-1] * q
+    return x, np.array(rho), np.array(alpha), False
 
-    def step(_):
-        count[0] += 1
 
-    x, flag = cg(A, b, x0=x0, rtol=0.0, atol=atol, maxiter=MAX_ITERATIONS, M=M, callback=step)
-    return x, count[0], flag == 0
+def _ritz_range(rho, alpha) -> tuple[float, float]:
+    """Smallest and largest eigenvalue of the Lanczos matrix of ``M A`` that k CG steps
+    build from their coefficients rho (k,), alpha (k,) (Saad, Iterative Methods for Sparse
+    Linear Systems, 2003, Sect. 6.7.3): with ``beta_j = rho_j / rho_{j-1}``,
+    ``T_00 = 1 / alpha_0``, ``T_jj = 1 / alpha_j + beta_j / alpha_{j-1}`` and ``T_j,j-1 =
+    sqrt(beta_j) / alpha_{j-1}``. The Ritz values lie inside the spectrum, so the smallest
+    overestimates lambda_min(M A), the more so the fewer the steps; (1, 1) without steps, nan
+    after a non-positive rho or alpha (M or A not SPD)."""
+    if len(alpha) == 0:
+        return 1.0, 1.0
+    if np.any(rho <= 0) or np.any(alpha <= 0):  # not SPD: no bound (nan), the answer is refused
+        return np.nan, np.nan
+    beta = rho[1:] / rho[:-1]
+    d = 1.0 / alpha
+    d[1:] += beta / alpha[:-1]
+    lam = eigvalsh_tridiagonal(d, np.sqrt(beta) / alpha[:-1]) if len(d) > 1 else d
+    return float(lam[0]), float(lam[-1])
+
+
+def _error_bound(A, b, z, M, lam_min, K=None, c=None) -> float:
+    """Bound on the relative energy error of an iterative solution z (n,) of ``A z = b``.
+
+    With ``e`` the error and ``r = b - A z = A e`` the residual, for SPD ``A`` and ``M``
+    ``||e||_A^2 = r^T A^-1 r <= r^T M r / lambda_min(M A)``, and for ``A = K + P`` with
+    ``P`` positive semidefinite (penalty, augmented Lagrangian) ``||e||_K <= ||e||_A``, so
+
+        ``||e||_K / ||c||_K <= sqrt(r^T M r / lambda_min(M A) / (c^T K c))``
+
+    for the coefficients c (n_coeffs,) of z and the stiffness K (n_coeffs, n_coeffs) (equality
+    in the second step for an eliminated system; for Nitsche, whose ``A - K`` is indefinite, up
+    to the coercivity constant, ~1). The reference is the stiffness energy, not ``z^T A z``: a
+    penalty term inflates ``z^T A z`` and ``b`` by the work of the prescribed displacements
+    (2.5e4-fold at 1e10 E/h), which let a tiny residual hide a wrong answer; without K (plain
+    SA) it falls back to ``z^T A z``, which cannot see that. ``lambda_min``: the smallest Ritz
+    value of the run (:func:`_ritz_range`), an overestimate. Cost: one product with A, one with
+    M. Measured on the cantilever: 1.03-1.9 times the true error (penalty 1e1-1e12 E/h, Nitsche).
+    """
+    r = b - A @ z
+    rmr = max(float(np.dot(r, M.matvec(r))), 0.0)
+    energy = float(np.dot(c, K @ c)) if K is not None else 0.0
+    if not energy > 0.0:
+        energy = float(np.dot(z, A @ z))
+    return float(np.sqrt(rmr / lam_min / energy)) if energy > 0.0 else np.inf
 
 
 def _iterative(system, near_nullspace, rtol, auxiliary, stiffness):
-    """CG with the auxiliary-space (or plain SA) preconditioner; returns z, info."""
+    """CG with the auxiliary-space (or plain SA) preconditioner; returns z, info with the
+    energy-error bound (:func:`_error_bound`) and, given the stiffness, the penalty scale
+    ``max diag(A - K) / max diag(K)``."""
     A = _compact(system.A)
     t0 = time.perf_counter()
     M, info = _preconditioner(system, near_nullspace, auxiliary, stiffness)
     t1 = time.perf_counter()
-    z, its, ok = _cg(A, system.b, M, 0.25 * rtol * float(np.linalg.norm(system.b)))
-    info.update(setup_time=t1 - t0, cg_time=time.perf_counter() - t1, iterations=its,
+    z, rho, alpha, ok = _cg(A, system.b, M, 0.25 * rtol * float(np.linalg.norm(system.b)))
+    info.update(setup_time=t1 - t0, cg_time=time.perf_counter() - t1, iterations=len(alpha),
                 converged=ok)
+    lo, hi = _ritz_range(rho, alpha)
+    K = csr_array(stiffness) if stiffness is not None and stiffness.shape[0] == system.n_coeffs else None
+    if K is not None and system.free is None and K.shape == A.shape:
+        info["penalty_scale"] = float((A.diagonal() - K.diagonal()).max() / K.diagonal().max())
+    c = system.coefficients(z) if K is not None else None
+    info.update(condition_estimate=hi / lo, error_bound=_error_bound(A, system.b, z, M, lo, K, c))
     return z, info
 
 
@@ -160,11 +240,14 @@ def _augmented_lagrangian(system, near_nullspace, rtol, auxiliary, stiffness):
                               stiffness)
     t1 = time.perf_counter()
     c, lam, its, steps = np.zeros(n), np.zeros(G.shape[0]), 0, 0
-    ok = False
+    ok, ritz = False, [np.inf, 0.0]
     while steps < MAX_UZAWA_STEPS:
         rhs = f + G.T @ (rho * d_inv * q - lam)
-        c, k, converged = _cg(A_rho, rhs, M, 0.25 * rtol * bnorm, x0=c)
-        its, steps = its + k, steps + 1
+        c, rhos, alphas, converged = _cg(A_rho, rhs, M, 0.25 * rtol * bnorm, x0=c)
+        if len(alphas):  # every step's CG sees the same M A_rho: keep the widest Ritz range
+            lo, hi = _ritz_range(rhos, alphas)
+            ritz = [min(ritz[0], lo), max(ritz[1], hi)]
+        its, steps = its + len(alphas), steps + 1
         gap = G @ c - q
         lam = lam + rho * d_inv * gap
         if not converged:
@@ -174,6 +257,9 @@ def _augmented_lagrangian(system, near_nullspace, rtol, auxiliary, stiffness):
             break
     info.update(setup_time=t1 - t0, cg_time=time.perf_counter() - t1, iterations=its,
                 uzawa_steps=steps, converged=ok)
+    ritz = ritz if its else [1.0, 1.0]
+    info.update(penalty_scale=AUGMENTATION, condition_estimate=ritz[1] / ritz[0],
+                error_bound=_error_bound(A_rho, rhs, c, M, ritz[0], K, c))
     return np.concatenate([c, lam]), info
 
 
@@ -193,12 +279,15 @@ def solve(system: LinearSystem, solver: str = "auto", near_nullspace=None,
         saddle point takes Uzawa steps on the augmented Lagrangian, each a CG
         solve with that preconditioner (:func:`_augmented_lagrangian`). "auto"
         takes "amg" above :data:`AUTO_AMG_THRESHOLD` unknowns and SuperLU
-        otherwise; if CG misses ``rtol`` there it falls back to SuperLU.
+        otherwise; if CG misses ``rtol`` there, or its answer cannot be trusted
+        (below), it falls back to SuperLU and says why in ``info["fallback"]``.
     near_nullspace : ndarray (n_coeffs, k), optional
         Rigid-body modes, for smoothed aggregation on the system matrix (only
         used without ``auxiliary``).
     rtol : float
-        Largest accepted relative residual ||A z - b|| / ||b||.
+        Largest accepted relative residual ||A z - b|| / ||b||. An iterative answer
+        must also have a bound on its relative energy error (:func:`_error_bound`)
+        of at most ``ERROR_FACTOR * rtol`` (1e-3 by default).
     auxiliary : callable ``() -> AuxiliarySpace``, optional
         With ``stiffness``, enables the auxiliary-space preconditioner
         (:mod:`efgkit.system.auxiliary`); called only if an iterative solve is
@@ -211,12 +300,16 @@ def solve(system: LinearSystem, solver: str = "auto", near_nullspace=None,
     -------
     z : ndarray (n,)
     info : dict with ``solver``, ``residual`` and (CG) ``iterations``,
-        ``preconditioner``, ``setup_time``, ``cg_time`` (and ``uzawa_steps``).
+        ``preconditioner``, ``setup_time``, ``cg_time``, ``error_bound``,
+        ``condition_estimate`` (of the preconditioned operator), ``penalty_scale``
+        (given ``stiffness``: ``max diag(A - K) / max diag(K)``), ``uzawa_steps``;
+        ``fallback`` when "auto" replaced CG's answer by SuperLU's.
 
     Raises
     ------
     SolverError
-        Singular system, NaN/inf, or a residual above ``rtol``.
+        Singular system, NaN/inf, a residual above ``rtol``, or (solver="amg") an
+        energy-error bound above ``ERROR_FACTOR * rtol``.
 
     Examples
     --------
@@ -258,18 +351,44 @@ def _check_arguments(system, solver, rtol) -> bool:
 
 
 def _iterative_with_fallback(system, solver, near_nullspace, rtol, auxiliary, stiffness, bnorm, info):
-    """CG (Uzawa steps for a saddle point) solution z (n,), or under "auto" SuperLU's if CG missed
-    ``rtol``; adds the CG statistics (and the fallback) to ``info``."""
+    """CG's (Uzawa steps') z (n,), or under "auto" SuperLU's if CG missed ``rtol`` or its error bound
+    exceeds ``ERROR_FACTOR * rtol``; CG statistics (and fallback) go into ``info``. SolverError for an
+    untrusted answer under "amg" (a missed residual is left to :func:`_check_residual`)."""
     A, b = system.A, system.b
     iterate = _iterative if system.spd else _augmented_lagrangian
     z, extra = iterate(system, near_nullspace, rtol, auxiliary, stiffness)
     info.update(extra)
-    if solver == "auto" and not (np.all(np.isfinite(z)) and
-                                 np.linalg.norm(A @ z - b) <= rtol * bnorm):
-        info.update(solver="direct", fallback=f"CG missed rtol in {extra['iterations']} "
-                    "iterations")
-        z = _direct(A, b, system.spd)
+    finite = bool(np.all(np.isfinite(z)))
+    res = float(np.linalg.norm(A @ z - b)) / bnorm if finite else np.inf
+    if not res <= rtol:
+        reason = f"CG missed rtol in {extra['iterations']} iterations"
+    elif not extra["error_bound"] <= ERROR_FACTOR * rtol:
+        reason = _untrusted(extra, res, rtol)
+    else:
+        return z
+    if solver == "auto":
+        info.update(solver="direct", fallback=reason)
+        return _direct(A, b, system.spd)
+    if res <= rtol:
+        raise SolverError(
+            f"solver='amg': {reason}. Remedy: solver='direct' (or 'auto', which falls back to it), "
+            "or a better-conditioned system: the default penalty factor (1e3 E/h) or bc='lagrange' "
+            "or 'variational' instead of a large penalty")
     return z
+
+
+def _untrusted(extra, res, rtol) -> str:
+    """Why CG's answer is refused although its relative residual ``res`` meets ``rtol``."""
+    scale = extra.get("penalty_scale")
+    why = (f"; the largest diagonal entry of the boundary terms is {scale:.1e} times the stiffness's "
+           "(about 1e3 at the default penalty)" if scale is not None else "")
+    if np.isnan(extra["error_bound"]):
+        why += "; CG met a non-positive curvature (the matrix or the preconditioner is not SPD)"
+    k = extra["iterations"]
+    return (f"its relative residual {res:.1e} meets rtol = {rtol:.0e} after {k} iteration{'s' * (k != 1)}"
+            f", but the bound on its relative energy error is {extra['error_bound']:.1e} "
+            f"> {ERROR_FACTOR * rtol:.0e} (ERROR_FACTOR * rtol){why}: the system is too ill-conditioned "
+            "for a small residual to mean a right answer")
 
 
 def _check_residual(A, b, z, bnorm, rtol, info):
@@ -279,6 +398,9 @@ def _check_residual(A, b, z, bnorm, rtol, info):
         raise SolverError("the solve produced NaN or inf: the system is singular or overflowed")
     res = float(np.linalg.norm(A @ z - b)) / bnorm
     info["residual"] = res
+    if not np.isfinite(res):  # A z overflowed: loads or stiffness beyond float range
+        raise SolverError(f"the residual of the solve is {res} (A z or b overflowed): the loads or "
+                          "the stiffness are too large for double precision; rescale the units")
     if res > rtol:
         detail = (f" after {info['iterations']} CG iterations" if info["solver"] == "amg"
                   else "")
