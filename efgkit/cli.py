@@ -1,9 +1,10 @@
 """Command line: ``efgkit run SCENE.toml`` and ``efgkit verify [NAME ...]``.
 
 Thin by design (design rule 11): one function per subcommand over the public
-API, testable as ``main(argv)``. A user error (missing file, bad scene,
-unsolvable system) prints one line to stderr and returns 2; a failed
-verification returns 1.
+API, testable as ``main(argv)``. Every error is one line on stderr,
+``efgkit: error: ...`` (``--debug`` adds the traceback); the exit status says
+whose it is (:data:`EXIT_STATUS`, shown by ``--help``): 1 when the computation
+failed, 2 when the input was refused.
 """
 
 from __future__ import annotations
@@ -12,18 +13,35 @@ import argparse
 import dataclasses
 import importlib.util
 import json
+import math
+import os
 import re
 import sys
 import textwrap
 import time
+import traceback
 import warnings
+from contextlib import contextmanager
 from pathlib import Path
 
 __all__ = ["main"]
 
+FAILED, REFUSED = 1, 2
+EXIT_STATUS = """exit status:
+  0  success
+  1  the computation failed: a numerical failure (singular matrix, no convergence,
+     non-finite results, out of memory), or a failed verification
+  2  the input was refused: usage, the scene file (missing, malformed, unknown keys),
+     a scene or discretisation that cannot be solved as given (rigid-body modes,
+     unsupported options, too large for the memory), the output directory
+errors are one line on stderr, "efgkit: error: ..."; --debug adds the traceback"""
 
 class CLIError(Exception):
-    """A user error: reported as one line on stderr, exit status 2."""
+    """An error reported as one line on stderr; ``status`` is the exit status."""
+
+    def __init__(self, message: str, status: int = REFUSED):
+        super().__init__(message)
+        self.status = status
 
 
 def _message(err: BaseException) -> str:
@@ -31,24 +49,50 @@ def _message(err: BaseException) -> str:
     return str(err.args[0]) if isinstance(err, KeyError) and err.args else str(err)
 
 
-def _user_errors() -> tuple[type[BaseException], ...]:
-    """Exceptions that mean "the input is wrong", not "efgkit has a bug"."""
+def _failures() -> tuple[type[BaseException], ...]:
+    """Exceptions that mean "the numbers failed" (exit 1) rather than "the input was refused"."""
+    import numpy as np
+
+    from .approx.mls import SingularMomentMatrix
     from .system.linalg import SolverError
 
-    return (OSError, ValueError, TypeError, KeyError, SolverError)
+    return (SolverError, SingularMomentMatrix, np.linalg.LinAlgError, ArithmeticError, MemoryError)
+
+
+@contextmanager
+def _stage(refused: str, failed: str):
+    """Turn the errors of one stage of ``run`` into CLIError: ``failed: ...`` (exit 1) for
+    numerical failures, ``refused: ...`` (exit 2) for input errors; others propagate (bugs)."""
+    try:
+        yield
+    except CLIError:
+        raise
+    except _failures() as err:
+        msg = _message(err) or type(err).__name__
+        if isinstance(err, MemoryError):
+            msg = "out of memory; use a coarser spacing or zones only where they are needed"
+        raise CLIError(f"{failed}: {msg}", FAILED) from err
+    except (ValueError, TypeError, KeyError) as err:
+        raise CLIError(f"{refused}: {_message(err)}", REFUSED) from err
 
 
 # ----------------------------------------------------------------------------- run
 
 
 def _method_fields(method) -> dict:
-    """The discretisation choices as a dict (user coordinates left out)."""
+    """The discretisation choices as solved (automatic ones made) as a dict, user coordinates
+    left out."""
     return {f.name: getattr(method, f.name) for f in dataclasses.fields(method)
             if f.name != "coordinates"}
 
 
 def _safe_name(name: str) -> str:
     return re.sub(r"[^A-Za-z0-9_.-]+", "_", name).strip("._") or "scene"
+
+
+def _num(v, fmt: str) -> str:
+    """``v`` formatted, or "n/a" where the report holds None (a non-finite value)."""
+    return "n/a" if v is None else format(v, fmt)
 
 
 def _summary(rep: dict) -> str:
@@ -61,17 +105,19 @@ def _summary(rep: dict) -> str:
         f"{rep['n_dofs']} dofs",
         f"solver    {solver.get('solver', '?')}"
         + (f", residual {res:.2e}" if isinstance(res, float) else ""),
-        f"energy    {rep['energy']:.6e}",
+        f"energy    {_num(rep['energy'], '.6e')}",
     ]
     if rep["errors"] is not None:
-        lines.append("errors    " + ", ".join(f"{k} {v:.3e}" for k, v in rep["errors"].items()))
-    for i, t in enumerate(rep["tips"]):
-        own = (f" (extrinsic K_I {t['KI_enriched']:.5g}, K_II {t['KII_enriched']:.5g})"
-               if "KI_enriched" in t else "")
+        lines.append("errors    " + ", ".join(f"{k} {_num(v, '.3e')}"
+                                              for k, v in rep["errors"].items()))
+    for i, t in enumerate(rep["tips"]):  # enrichment coefficients are no K: JSON only
         lines.append(("tips      " if i == 0 else "          ")
-                     + f"{t['id']} at ({t['x']:.6g}, {t['y']:.6g}): K_I {t['KI']:.5g}, "
-                     f"K_II {t['KII']:.5g}, J {t['J']:.5g}, T {t['T']:.5g}, spread "
-                     f"{t['spread']:.1e} over {len(t['domains'])} domains{own}")
+                     + f"{t['id']} at ({t['x']:.6g}, {t['y']:.6g}): K_I {_num(t['KI'], '.5g')}, "
+                     f"K_II {_num(t['KII'], '.5g')}, J {_num(t['J'], '.5g')}, T "
+                     f"{_num(t['T'], '.5g')}, spread {_num(t['spread'], '.1e')} over "
+                     f"{len(t['domains'])} domains, estimated error "
+                     + ("(none)" if t.get("error") is None else _num(t["error"], ".1e"))
+                     + (" UNRELIABLE" if t["warnings"] else ""))
         lines += [f"          warning: {w}" for w in t["warnings"]]
     t = rep["timings"]
     stages = ", ".join(f"{k} {v:.3f}" for k, v in t.items() if k != "total")
@@ -79,6 +125,21 @@ def _summary(rep: dict) -> str:
                                subsequent_indent=" " * 10))
     lines += [("wrote     " if i == 0 else "          ") + f for i, f in enumerate(rep["outputs"])]
     return "\n".join(lines)
+
+
+def _check_out(out: Path, given: bool) -> None:
+    """Refuse, before the solve, an output directory that cannot be created or written."""
+    what = f"--out {str(out)!r}" if given else f"the output directory {str(out)!r}"
+    if out.exists() and not out.is_dir():
+        raise CLIError(f"{what} is an existing file, not a directory; give a directory (it is "
+                       "created if missing) or remove the file")
+    base = out
+    while not base.exists() and base != base.parent:
+        base = base.parent
+    if not base.is_dir():
+        raise CLIError(f"{what} cannot be created: {str(base)!r} is a file; give another --out")
+    if not os.access(base, os.W_OK | os.X_OK):
+        raise CLIError(f"{what}: no permission to write in {str(base)!r}; give another --out")
 
 
 def _write_outputs(sol, out: Path, name: str, samples: int, timings: dict,
@@ -107,47 +168,57 @@ def cmd_run(args) -> int:
     """Load a scene file, solve it, write fields and figures, report."""
     path = Path(args.scene)
     if not path.is_file():
-        raise CLIError(f"scene file {str(path)!r} not found")
+        raise CLIError(f"scene file {str(path)!r} " + ("is not a file" if path.exists()
+                                                       else "not found"))
     from .io import jsonable
     from .scenefile import load_study
     from .static import solve
-    from .system.linalg import SolverError
 
     t_run = time.perf_counter()
     timings = {}
     t0 = time.perf_counter()
     try:
         scene, method = load_study(path)
-    except _user_errors() as err:
+    except (OSError, ValueError, TypeError, KeyError) as err:
         msg = _message(err)  # scene-file errors name the file already
         raise CLIError(msg if str(path) in msg else f"{path}: {msg}") from err
     timings["load"] = time.perf_counter() - t0
-    try:
+    name = _safe_name(scene.name if scene.name != "scene" else path.stem)
+    out = Path(args.out) if args.out is not None else Path("out") / name
+    _check_out(out, args.out is not None)
+    with _stage(f"{path}: cannot solve", f"{path}: the solve failed"):
         sol = solve(scene, method)
-    except (ValueError, SolverError) as err:  # rigid-body modes, singular moments, no convergence
-        raise CLIError(f"{path}: cannot solve: {_message(err)}") from err
-    timings.update({k: v for k, v in sol.timings.items() if k != "total"})
-    t0 = time.perf_counter()
-    energy = sol.strain_energy()
-    errors = sol.errors() if scene.exact is not None else None
-    timings["post"] = time.perf_counter() - t0
+        timings.update({k: v for k, v in sol.timings.items() if k != "total"})
+        t0 = time.perf_counter()
+        energy = sol.strain_energy()
+        res = sol.info.get("residual")
+        if not math.isfinite(energy) or (isinstance(res, float) and not math.isfinite(res)):
+            raise CLIError(
+                f"{path}: the solve failed: the solution is not finite (strain energy {energy:g}, "
+                f"relative residual {res}): a load, modulus or length of the scene overflows "
+                "double precision (the energy squares the stresses); rescale the scene's units",
+                FAILED)
+        errors = sol.errors() if scene.exact is not None else None
+        timings["post"] = time.perf_counter() - t0
     tips = ()
     if scene.cracks:
         t0 = time.perf_counter()
-        with warnings.catch_warnings():  # each result carries its warnings; the report shows them
+        with warnings.catch_warnings(), _stage(  # each result carries its warnings
+                f"{path}: cannot compute the stress intensity factors",
+                f"{path}: the stress intensity factors failed"):
             warnings.simplefilter("ignore", UserWarning)
             tips = sol.sifs()
         timings["sifs"] = time.perf_counter() - t0
-
-    name = _safe_name(scene.name if scene.name != "scene" else path.stem)
-    out = Path(args.out) if args.out is not None else Path("out") / name
     try:
         outputs = _write_outputs(sol, out, name, args.samples, timings, tips)
     except OSError as err:
         raise CLIError(f"cannot write to {str(out)!r}: {err}") from err
+    except (ValueError, ArithmeticError) as err:
+        raise CLIError(f"{path}: writing the fields and figures failed: {_message(err)}",
+                       FAILED) from err
     timings["total"] = time.perf_counter() - t_run
 
-    rep = {"scene": scene.name, "file": str(path), "method": _method_fields(method),
+    rep = {"scene": scene.name, "file": str(path), "method": _method_fields(sol.method),
            **sol.sizes(), "timings": timings, "outputs": outputs,
            "energy": energy, "errors": errors, "solver": dict(sol.info),
            "tips": [t.as_dict() for t in tips]}
@@ -245,26 +316,45 @@ def _sample_count(text: str) -> int:
 def _parser() -> argparse.ArgumentParser:
     from . import __version__
 
-    p = argparse.ArgumentParser(prog="efgkit", description=__doc__.splitlines()[0])
+    p = argparse.ArgumentParser(prog="efgkit", description=__doc__.splitlines()[0],
+                                epilog=EXIT_STATUS,
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--version", action="version", version=f"efgkit {__version__}")
+    p.add_argument("--debug", action="store_true", help="show the traceback of an error")
     sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    r = sub.add_parser("run", help="solve a scene file and write fields, figures and a report")
+    r = sub.add_parser("run", help="solve a scene file and write fields, figures and a report",
+                       epilog=EXIT_STATUS, formatter_class=argparse.RawDescriptionHelpFormatter)
     r.add_argument("scene", metavar="SCENE.toml")
-    r.add_argument("--out", metavar="DIR", help="output directory (default: out/<scene name>)")
+    r.add_argument("--out", metavar="DIR", help="output directory (default: out/<scene name>); "
+                   "checked before the solve")
     r.add_argument("--json", action="store_true", help="print one JSON object instead of text")
     r.add_argument("--samples", type=_sample_count, default=20000, metavar="N",
                    help="approximate number of field sample points (default: 20000)")
     r.set_defaults(func=cmd_run)
-    v = sub.add_parser("verify", help="run verification scripts (verification/<name>.py)")
+    v = sub.add_parser("verify", help="run verification scripts (verification/<name>.py)",
+                       epilog=EXIT_STATUS, formatter_class=argparse.RawDescriptionHelpFormatter)
     v.add_argument("names", nargs="*", metavar="NAME", help="scripts to run (default: all)")
     v.add_argument("--quick", action="store_true", help="quick mode (coarse, for CI)")
     v.add_argument("--list", action="store_true", help="list the available scripts")
     v.set_defaults(func=cmd_verify)
+    for s in (r, v):  # also after the subcommand; SUPPRESS keeps a --debug given before it
+        s.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
+                       help="show the traceback of an error")
     return p
 
 
+def _warning_lines(caught) -> list[str]:
+    """Warnings raised during a command, one line each, without repeats."""
+    seen = dict.fromkeys(" ".join(str(w.message).split()) for w in caught)
+    return [f"efgkit: warning: {m}" for m in seen]
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Entry point of the ``efgkit`` command; returns the exit status.
+    """Entry point of the ``efgkit`` command; returns the exit status (module docstring).
+
+    Warnings raised on the way are printed after the command, one line each
+    (``efgkit: warning: ...``); after an error only with ``--debug``, and then with
+    the traceback before the error line.
 
     Examples
     --------
@@ -274,9 +364,18 @@ def main(argv: list[str] | None = None) -> int:
     try:
         args = _parser().parse_args(argv)
     except SystemExit as exc:  # --help, --version, usage errors (argparse printed them)
-        return exc.code if isinstance(exc.code, int) else 2
-    try:
-        return args.func(args)
-    except CLIError as err:
-        print(f"efgkit: error: {err}", file=sys.stderr)
-        return 2
+        return exc.code if isinstance(exc.code, int) else REFUSED
+    error = None
+    with warnings.catch_warnings(record=True) as caught:  # the filters in force stay
+        try:
+            status = args.func(args)
+        except CLIError as err:
+            error, status = err, err.status
+    if error is None or args.debug:
+        for line in _warning_lines(caught):
+            print(line, file=sys.stderr)
+    if error is not None:
+        if args.debug:
+            traceback.print_exception(error, file=sys.stderr)
+        print(f"efgkit: error: {error}", file=sys.stderr)
+    return status

@@ -8,7 +8,8 @@ random perturbation of the interior nodes.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+import os
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.spatial import cKDTree
@@ -16,7 +17,17 @@ from scipy.spatial import cKDTree
 from .methods.efg import EFG
 from .problem.geometry import Domain
 
-__all__ = ["NodeCloud", "generate_nodes", "support_radii"]
+__all__ = ["NodeCloud", "generate_nodes", "support_radii", "NodeEstimate", "estimate_nodes",
+           "area_in_disc", "available_memory", "check_memory"]
+
+# Size guard. Node generation holds about 300 bytes per point of its grids at its peak (the
+# bounding-box grid, the local-spacing and boundary-distance arrays, the k-d tree of the
+# support radii). Calibration: tracemalloc peak of generate_nodes on unit plates, 289 B per
+# node at 19,881 and at 320,356 nodes (301 B perturbed, 295 B with a zone), plus up to
+# 0.15 GB of chunked boundary distances on curved boundaries, which the floor covers.
+GRID_POINT_BYTES = 300.0
+FALLBACK_MEMORY = 8e9  # bytes assumed available when the machine does not say
+ALWAYS_ALLOWED = 2e9  # estimates below this pass whatever the machine reports
 
 
 @dataclass(frozen=True, eq=False)
@@ -82,6 +93,109 @@ def support_radii(x: np.ndarray, d_max: float, regular: bool) -> np.ndarray:
     return d_max * c
 
 
+@dataclass(frozen=True)
+class NodeEstimate:
+    """Size of :func:`generate_nodes`, estimated before anything is allocated: ``nodes`` in
+    the body (area / spacing^2 and perimeter / spacing of the background and of every zone,
+    nested zones counted twice; rosettes, split crack nodes), ``grid`` points allocated on
+    the way (bounding boxes of the domain and zones), and ``parts``, the nodes by source
+    (``{"spacing = 0.1": n, "zones[0] (...)": n, ...}``)."""
+
+    nodes: float
+    grid: float
+    parts: dict
+
+
+def estimate_nodes(domain: Domain, method: EFG, cracks=()) -> NodeEstimate:
+    """Estimate the size of :func:`generate_nodes` ``(domain, method, cracks)`` from areas.
+
+    Examples
+    --------
+    >>> est = estimate_nodes(Domain.rectangle(0, 0, 1, 1), EFG(spacing=0.01))
+    >>> round(est.nodes), round(est.grid)   # 101 x 101 = 10,201 nodes are generated
+    (10400, 10201)
+    """
+    method = _without_auto_zones(method)
+    perimeter = sum(e.length for e in domain.edges())
+    if method.coordinates is not None:
+        n = float(len(method.coordinates))
+        parts, grid = {f"coordinates ({len(method.coordinates)} nodes)": n}, n
+    else:
+        h = method.spacing
+        x0, y0, x1, y1 = domain.bbox
+        parts = {f"spacing = {h!r}": domain.area / h**2 + perimeter / h}
+        grid = (math.floor((x1 - x0) / h) + 1.0) * (math.floor((y1 - y0) / h) + 1.0)
+        for i, z in enumerate(method.zones):
+            parts[f"zones[{i}] (radius {z.radius!r}, spacing {z.spacing!r})"] = (
+                area_in_disc(domain, z.centre, z.radius) / z.spacing**2
+                + min(2 * math.pi * z.radius, perimeter) / z.spacing)
+            grid += (2 * z.radius / z.spacing + 2.0) ** 2
+    if cracks:
+        h_min = min([method.spacing] + [z.spacing for z in method.zones])
+        n_split = sum(c.length for c in cracks) / h_min + 1.0
+        tips = sum(len(c.tip_list) for c in cracks)
+        if method.rosette is not None:
+            r = method.rosette
+            parts["rosette"] = tips * (r.rings * (r.per_ring - 1) + 1.0)
+            n_split += tips * r.rings
+        parts["cracks (split nodes)"] = n_split
+    return NodeEstimate(sum(parts.values()), grid, parts)
+
+
+def area_in_disc(domain: Domain, centre, radius: float) -> float:
+    """Area of the material within ``radius`` of ``centre``, from 64 x 64 samples (~2 %)."""
+    u = (np.arange(64) + 0.5) / 32 - 1
+    d = np.column_stack([a.ravel() for a in np.meshgrid(u, u)])
+    d = d[np.hypot(*d.T) <= 1]
+    return math.pi * radius**2 * float(domain.contains(np.asarray(centre) + radius * d).mean())
+
+
+def available_memory() -> tuple[float, str]:
+    """Bytes of memory a new allocation can take, and where the figure comes from:
+    ``MemAvailable`` of ``/proc/meminfo`` (capped by a cgroup v2 ``memory.max``), else
+    ``os.sysconf`` free pages, else :data:`FALLBACK_MEMORY`."""
+    found = None
+    try:
+        with open("/proc/meminfo") as f:
+            kb = [line.split()[1] for line in f if line.startswith("MemAvailable:")]
+        found = float(kb[0]) * 1024, "MemAvailable in /proc/meminfo"
+    except (OSError, ValueError, IndexError):
+        try:
+            found = (float(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")),
+                     "free pages from os.sysconf")
+        except (AttributeError, ValueError, OSError):
+            return FALLBACK_MEMORY, "a fixed limit: this machine does not report its memory"
+    try:  # a container's limit
+        with open("/sys/fs/cgroup/memory.max") as f, open("/sys/fs/cgroup/memory.current") as g:
+            free = float(f.read()) - float(g.read())  # ValueError for "max": no limit
+        if free < found[0]:
+            found = max(free, 0.0), "the cgroup's memory.max"
+    except (OSError, ValueError):
+        pass
+    return found
+
+
+def check_memory(need: float, what: str, remedy: str) -> None:
+    """Raise ValueError if the estimated peak ``need`` (bytes) exceeds :func:`available_memory`;
+    below :data:`ALWAYS_ALLOWED` it always passes. The message is ``what`` (what was estimated
+    from which arguments), the memory, then ``remedy``, where ``{factor}`` becomes the
+    coarsening that would fit (memory falls like spacing^2)."""
+    if need <= ALWAYS_ALLOWED:
+        return
+    have, source = available_memory()
+    if need > have:
+        factor = math.sqrt(need / max(have, ALWAYS_ALLOWED))
+        raise ValueError(f"{what}: about {need / 1e9:.3g} GB in all, more than the "
+                         f"{have / 1e9:.3g} GB of memory available ({source}). "
+                         + remedy.format(factor=factor))
+
+
+def _without_auto_zones(method: EFG) -> EFG:
+    """``method`` with ``zones=None`` (tip zones chosen for a scene, :meth:`EFG.for_scene`,
+    as :func:`~efgkit.methods.discretize.discretize` does first) read as no zones."""
+    return replace(method, zones=()) if method.zones is None else method
+
+
 def _grid(x0, y0, x1, y1, h, origin=(0.0, 0.0)):
     """Grid points of spacing h aligned to ``origin`` covering the box, shape (m, 2)."""
     i0, i1 = math.floor((x0 - origin[0]) / h - 1e-9), math.ceil((x1 - origin[0]) / h + 1e-9)
@@ -125,7 +239,14 @@ def generate_nodes(domain: Domain, method: EFG, cracks=()) -> NodeCloud:
     seed 003 Sect. 2.2 and Fig. 29), and every node lying on a crack
     (within 1e-6 of the local spacing, tips excepted) is split into two nodes,
     one per face (:attr:`NodeCloud.face`). Support radii are those of the
-    unsplit cloud: both copies of a split node share one.
+    unsplit cloud: both copies of a split node share one. ``zones=None`` (chosen per
+    scene, :meth:`EFG.for_scene`) counts as no zones here.
+
+    Raises
+    ------
+    ValueError
+        When the estimated peak memory (:func:`estimate_nodes`) exceeds what the machine
+        has available (:func:`check_memory`).
 
     Examples
     --------
@@ -138,6 +259,12 @@ def generate_nodes(domain: Domain, method: EFG, cracks=()) -> NodeCloud:
     >>> cracked.n, sorted(cracked.face.tolist()).count(1)   # 2 nodes on the crack split
     (27, 2)
     """
+    method = _without_auto_zones(method)
+    est = estimate_nodes(domain, method, cracks)
+    check_memory(GRID_POINT_BYTES * max(est.grid, est.nodes),
+                 f"{max(est.parts, key=est.parts.get)} would give about {est.nodes:.2g} nodes on grids of "
+                 f"{est.grid:.2g} points", "Remedy: a spacing about {factor:.2g} times coarser "
+                 "would fit; refine only where needed (zones near tips, holes and corners).")
     x, is_bnd = _positions(domain, method)
     regular = method.regular
     if cracks and method.rosette is not None:

@@ -53,11 +53,18 @@ def test_run_crack_scene_reports_tips(tmp_path, capsys):
     assert (tip["id"], tip["x"], tip["y"]) == ("edge:1", 3.5, 8.0)
     # seed 003 Sect. 5.6.2 (Wilson 1969): K_I = 34.0, K_II = 4.55
     assert abs(tip["KI"] / 34.0 - 1) < 0.01 and abs(tip["KII"] / 4.55 - 1) < 0.01
-    assert len(tip["domains"]) >= 3 and "KI_enriched" in tip  # extrinsic MLS scene
+    assert len(tip["domains"]) >= 3
+    # extrinsic MLS scene: the enrichment coefficients are reported, under a name that says
+    # what they are and with a note, never as a K
+    coeff = tip["enrichment_coefficients"]
+    assert {"KI", "KII", "note"} <= set(coeff) and "not stress intensity factors" in coeff["note"]
+    assert not any("enriched" in k for k in tip)
     assert any(Path(p).name == "edge_crack_sif.png" for p in rep["outputs"])
     main(["run", str(ROOT / "examples" / "edge_crack.toml"), "--out", str(tmp_path),
           "--samples", "2000"])
-    assert "edge:1 at (3.5, 8): K_I 34.0" in capsys.readouterr()[0]
+    out = capsys.readouterr()[0]
+    assert "edge:1 at (3.5, 8): K_I 34.0" in out
+    assert "extrinsic" not in out and "enrich" not in out
 
 
 def test_run_text_summary_default_out_dir(tmp_path, monkeypatch, capsys):
@@ -101,6 +108,102 @@ def test_run_unsolvable_scene(tmp_path, capsys):
     free.write_text(re.sub(r"\[\[supports\]\][^\[]*", "", PATCH.read_text()))
     assert main(["run", str(free), "--out", str(tmp_path / "o")]) == 2
     _assert_one_line_error(capsys, "free.toml", "cannot solve")
+
+
+def _patch_variant(tmp_path, name, edit):
+    f = tmp_path / name
+    f.write_text(edit(PATCH.read_text()))
+    return f
+
+
+def test_run_unknown_key(tmp_path, capsys):
+    bad = _patch_variant(tmp_path, "typo.toml", lambda t: t.replace("[[supports]]", "[[suports]]"))
+    assert main(["run", str(bad), "--out", str(tmp_path / "o")]) == 2
+    _assert_one_line_error(capsys, "typo.toml", "'suports'", "did you mean 'supports'")
+
+
+def test_run_tiny_crack(tmp_path, capsys):
+    # a crack 1e-12 long: refused by the scene (shorter than 1e-9 of the domain size)
+    crack = ('[[cracks]]\nname = "c"\nvertices = [[0.5, 0.5], [0.500000000001, 0.5]]\n'
+             'tips = [true, true]\n\n[efg]')
+    tiny = _patch_variant(tmp_path, "tiny.toml", lambda t: t.replace("[efg]", crack))
+    assert main(["run", str(tiny), "--out", str(tmp_path / "o")]) == 2
+    _assert_one_line_error(capsys, "tiny.toml", "crack 'c' is 1e-12 long", "remove it")
+
+
+@pytest.mark.filterwarnings("default::RuntimeWarning")  # as outside pytest: numpy's overflow
+def test_run_overflowing_traction_is_refused(tmp_path, capsys):
+    huge = _patch_variant(tmp_path, "huge.toml", lambda t: t.replace("t = [1.0, 0.0]",
+                                                                     "t = [1e300, 0.0]"))
+    assert main(["run", str(huge), "--out", str(tmp_path / "o")]) == 2  # refused as input
+    _assert_one_line_error(capsys, "huge.toml", "rescale")
+    assert not (tmp_path / "o").exists()
+
+
+def test_run_too_large_is_refused_before_allocating(tmp_path, capsys):
+    big = _patch_variant(tmp_path, "big.toml", lambda t: t.replace("spacing = 0.1",
+                                                                   "spacing = 1e-5"))
+    assert main(["run", str(big), "--out", str(tmp_path / "o")]) == 2
+    _assert_one_line_error(capsys, "big.toml", "cannot solve", "spacing = 1e-05", "nodes",
+                           "quadrature points", "GB", "available", "coarser")
+
+
+@pytest.fixture
+def no_solve(monkeypatch):
+    """Fail the test if ``efgkit run`` reaches the solve."""
+    import efgkit.static
+
+    def solve(*args, **kwargs):
+        raise AssertionError("the solve was reached")
+
+    monkeypatch.setattr(efgkit.static, "solve", solve)
+
+
+def test_out_an_existing_file_is_refused_before_the_solve(tmp_path, capsys, no_solve):
+    f = tmp_path / "taken"
+    f.write_text("mine")
+    assert main(["run", str(PATCH), "--out", str(f)]) == 2
+    _assert_one_line_error(capsys, "--out", "taken", "existing file, not a directory")
+    assert main(["run", str(PATCH), "--out", str(f / "sub")]) == 2
+    _assert_one_line_error(capsys, "--out", "cannot be created", "is a file")
+    assert f.read_text() == "mine"
+
+
+def test_scene_argument_a_directory(tmp_path, capsys):
+    assert main(["run", str(tmp_path)]) == 2
+    _assert_one_line_error(capsys, "is not a file")
+
+
+@pytest.mark.parametrize("where", ["before", "after"])
+def test_debug_shows_the_traceback(tmp_path, capsys, where):
+    argv = ["run", str(tmp_path / "nowhere.toml")]
+    argv = ["--debug", *argv] if where == "before" else [*argv, "--debug"]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("Traceback") and "CLIError" in err
+    assert err.splitlines()[-1].startswith("efgkit: error: scene file")
+
+
+def test_debug_shows_the_cause(tmp_path, capsys):
+    free = _patch_variant(tmp_path, "free.toml", lambda t: re.sub(r"\[\[supports\]\][^\[]*", "", t))
+    assert main(["--debug", "run", str(free), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert "RigidBodyModeError" in err and "direct cause" in err
+    assert err.splitlines()[-1].startswith("efgkit: error:")
+
+
+def test_warnings_are_one_line_each(tmp_path, capsys):
+    soft = _patch_variant(tmp_path, "nu.toml", lambda t: t.replace("nu = 0.3", "nu = 0.495"))
+    assert main(["run", str(soft), "--out", str(tmp_path / "o"), "--samples", "1000"]) == 0
+    err = capsys.readouterr().err
+    assert err.startswith("efgkit: warning: ") and "0.495" in err and err.count("\n") == 1
+
+
+def test_help_documents_the_exit_status(capsys):
+    assert main(["run", "--help"]) == 0
+    out = capsys.readouterr().out
+    assert "exit status" in out and "--debug" in out
+    assert "1  the computation failed" in out and "2  the input was refused" in out
 
 
 @pytest.mark.parametrize("argv", [[], ["run"], ["bogus"], ["run", "x.toml", "--samples", "5"]])
