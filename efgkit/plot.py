@@ -1,4 +1,4 @@
-"""Matplotlib views of node clouds and stress fields.
+"""Matplotlib views of node clouds, stress fields and the domain dependence of K and J.
 
 Every function draws on ``ax`` (a new figure when None) and returns the
 figure; none calls ``show()`` or writes files (save with
@@ -6,6 +6,8 @@ figure; none calls ``show()`` or writes files (save with
 """
 
 from __future__ import annotations
+
+from collections.abc import Mapping
 
 import numpy as np
 
@@ -31,15 +33,16 @@ def new_axes(ax, domain: Domain, width: float = 7.0):
     return ax.figure, ax
 
 
-def draw_outline(ax, domain: Domain, cracks=()) -> None:
-    """Draw the boundary loops (black) and the cracks (red)."""
+def draw_outline(ax, domain: Domain, cracks=(), label: bool = False) -> None:
+    """Draw the boundary loops (black) and the cracks (red; with ``label``, "crack" in the legend)."""
     for loop in domain.loops:
         p, _ = loop.polyline()
         p = np.vstack([p, p[:1]])
         ax.plot(p[:, 0], p[:, 1], color="k", lw=1.0)
-    for crack in cracks:
+    for k, crack in enumerate(cracks):
         v = crack.vertices
-        ax.plot(v[:, 0], v[:, 1], color="tab:red", lw=1.5)
+        ax.plot(v[:, 0], v[:, 1], color="tab:red", lw=1.5,
+                label="crack" + "s" * (len(cracks) > 1) if label and k == 0 else None)
 
 
 def _representative(nodes, domain: Domain) -> tuple[int, ...]:
@@ -57,16 +60,90 @@ def _representative(nodes, domain: Domain) -> tuple[int, ...]:
     return tuple(dict.fromkeys(pick))
 
 
-def plot_nodes(solution_or_nodes, domain: Domain | None = None, ax=None, supports_of=None):
-    """Domain outline, nodes as dots and the support circles of a few nodes.
+def edge_samples(domain: Domain, where, m: int):
+    """``(edge, x (m, 2), unit tangent (m, 2), selected (m,))`` for every edge of ``domain``:
+    ``m`` points from end to end and which of them ``where`` (edge name or mask) selects."""
+    for e in domain.edges():
+        x, t = e.at(np.linspace(0.0, 1.0, m))
+        sel = np.full(m, e.name == where) if isinstance(where, str) else np.asarray(where(x), bool)
+        yield e, x, t, sel.reshape(m)
+
+
+def support_label(s) -> str:
+    """``"$u_x$, $u_y$ fixed on left"``: the constrained components (fixed: prescribed 0)."""
+    comps = [(c, v) for c, v in (("$u_x$", s.ux), ("$u_y$", s.uy)) if v is not None]
+    fixed = [c for c, v in comps if isinstance(v, (int, float)) and float(v) == 0.0]
+    given = [c for c, _ in comps if c not in fixed]
+    text = "; ".join(f"{', '.join(cs)} {how}" for cs, how in ((fixed, "fixed"), (given, "prescribed")) if cs)
+    return f"{text} on {s.edge if isinstance(s.edge, str) else 'selected boundary'}"
+
+
+def draw_supports(ax, scene) -> int:
+    """Thick coloured lines on the supported boundary, one legend entry per support (colour:
+    which components it constrains); returns how many were drawn."""
+    colour = {(True, False): "tab:cyan", (False, True): "tab:olive", (True, True): "tab:brown"}
+    drawn = 0
+    for s in scene.supports:
+        parts = [np.vstack([np.where(sel[:, None], x, np.nan), [[np.nan, np.nan]]])
+                 for _, x, _, sel in edge_samples(scene.domain, s.edge, 101) if sel.any()]
+        if parts:
+            xy = np.vstack(parts)
+            ax.plot(xy[:, 0], xy[:, 1], lw=6, alpha=0.55, solid_capstyle="butt", zorder=1,
+                    color=colour[s.ux is not None, s.uy is not None], label=support_label(s))
+            drawn += 1
+    return drawn
+
+
+def draw_tractions(ax, scene, per_edge: int = 7) -> int:
+    """Arrows of the scene's tractions at a few points of each loaded edge (interior points,
+    more on longer edges), just outside the body so that shear reads too; one scale for all:
+    the largest ``|t|`` is 12% of the body's size or 80% of the arrow spacing, the less.
+    Returns the number of arrows."""
+    from .problem.scene import evaluate_vector
+
+    x0, y0, x1, y1 = scene.domain.bbox
+    size = max(x1 - x0, y1 - y0)
+    longest = max(e.length for e in scene.domain.edges())
+    at, t, gap = [], [], 0.12 * size
+    for tr in scene.tractions:
+        for e, x, tan, sel in edge_samples(scene.domain, tr.edge, 61):
+            idx = np.flatnonzero(sel)
+            if not len(idx):
+                continue
+            k = int(np.clip(round(per_edge * e.length / longest), 2, per_edge))
+            pick = idx[np.round(np.linspace(0, len(idx) - 1, k + 2)[1:-1]).astype(int)]
+            normal = np.column_stack([tan[pick, 1], -tan[pick, 0]])
+            at.append(x[pick] + 0.02 * size * normal)
+            t.append(evaluate_vector(tr.t, x[pick], normal, scene.material))
+            gap = min(gap, 0.8 * e.length * (idx[-1] - idx[0]) / 60 / (k + 1))
+    if not at:
+        return 0
+    at, t = np.vstack(at), np.vstack(t)
+    tmax = float(np.hypot(*t.T).max())
+    if tmax == 0.0:
+        return 0
+    ax.quiver(at[:, 0], at[:, 1], t[:, 0], t[:, 1], angles="xy", scale_units="xy",
+              scale=tmax / gap, color="tab:purple", width=0.004, zorder=4,
+              label=f"traction (largest |t| = {tmax:.3g})")
+    ax.update_datalim(at + t * (gap / tmax))
+    return len(at)
+
+
+def plot_nodes(solution_or_nodes, domain=None, ax=None, supports_of=None):
+    """The nodes, the supported and loaded boundary, the cracks and a few support circles.
+
+    Supported edges are thick coloured lines (legend: the constrained components,
+    e.g. "$u_x$, $u_y$ fixed on left"), tractions arrows at a few points of each
+    loaded edge (one scale; the legend gives the largest ``|t|``), cracks red lines,
+    and each support circle is named in the legend ("support of node k (radius d)").
 
     Parameters
     ----------
     solution_or_nodes : Solution, Discretization or NodeCloud
-        Anything with ``.nodes`` (then ``domain`` and cracks default to its
-        scene's), or a NodeCloud (``x (n, 2)``, ``radius (n,)``, ``boundary (n,)``).
-    domain : Domain, optional
-        Required with a bare NodeCloud.
+        Anything with ``.nodes`` (then ``domain``, supports, loads and cracks default to
+        its scene's), or a NodeCloud (``x (n, 2)``, ``radius (n,)``, ``boundary (n,)``).
+    domain : Domain or Scene, optional
+        Required with a bare NodeCloud; a Scene also gives the supports, loads and cracks.
     ax : matplotlib Axes, optional
     supports_of : sequence of int, optional
         Nodes whose support discs are drawn; default: an interior node near
@@ -83,15 +160,17 @@ def plot_nodes(solution_or_nodes, domain: Domain | None = None, ax=None, support
     >>> from efgkit.nodes import generate_nodes
     >>> dom = Domain.rectangle(0, 0, 1, 1)
     >>> fig = plot_nodes(generate_nodes(dom, EFG(spacing=0.25)), dom, supports_of=[0])
-    >>> len(fig.axes[0].patches)
-    1
+    >>> len(fig.axes[0].patches), fig.axes[0].get_title()
+    (1, 'nodes (25), 1 support circle')
     """
     from matplotlib.patches import Circle
 
+    from .problem.scene import Scene
+
     src = solution_or_nodes
     nodes = getattr(src, "nodes", src)
-    scene = getattr(src, "scene", None)
-    if domain is None:
+    scene = domain if isinstance(domain, Scene) else getattr(src, "scene", None)
+    if domain is None or isinstance(domain, Scene):
         if scene is None:
             raise ValueError("plot_nodes needs a domain with a bare NodeCloud: pass domain=...")
         domain = scene.domain
@@ -102,16 +181,28 @@ def plot_nodes(solution_or_nodes, domain: Domain | None = None, ax=None, support
     if np.any((idx < 0) | (idx >= nodes.n)):
         raise ValueError(f"supports_of must index nodes 0..{nodes.n - 1}, got {list(supports_of)}")
     fig, ax = new_axes(ax, domain)
-    draw_outline(ax, domain, cracks)
+    draw_outline(ax, domain, cracks, label=True)
+    what = [f"nodes ({nodes.n})"]
+    if scene is not None:
+        what += ["supports"] * bool(draw_supports(ax, scene)) + ["loads"] * bool(draw_tractions(ax, scene))
+    what += ["cracks"] * bool(cracks)
     b = np.asarray(nodes.boundary, bool)
     ax.plot(*nodes.x[~b].T, ".", ms=3, color="tab:blue", label="interior nodes")
     ax.plot(*nodes.x[b].T, ".", ms=4, color="tab:orange", label="boundary nodes")
-    for i in idx:
-        ax.add_patch(Circle(nodes.x[i], nodes.radius[i], fill=False, ls="--",
-                            color="tab:green", lw=1.0))
-        ax.plot(*nodes.x[i], "o", ms=5, color="tab:green")
+    shades = ("tab:green", "darkgreen", "yellowgreen", "teal")
+    for k, i in enumerate(idx):
+        label = (f"support of node {i} (radius {nodes.radius[i]:.3g})" if len(idx) <= len(shades)
+                 else f"supports of {len(idx)} nodes (radius {nodes.radius[idx].min():.3g} "
+                 f"to {nodes.radius[idx].max():.3g})" if k == 0 else None)
+        colour = shades[k % len(shades)] if len(idx) <= len(shades) else "tab:green"
+        ax.add_patch(Circle(nodes.x[i], nodes.radius[i], fill=False, ls="--", color=colour, lw=1.2,
+                            label=label))
+        ax.plot(*nodes.x[i], "o", ms=5, color=colour)
+    if len(idx):
+        what.append(f"{len(idx)} support circle{'s' * (len(idx) > 1)}")
+    ax.autoscale_view()
     ax.set_aspect("equal")
-    ax.set_title(f"{nodes.n} nodes" + (f": {scene.name}" if scene is not None else ""))
+    ax.set_title((f"{scene.name}: " if scene is not None else "") + ", ".join(what))
     ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.08), ncol=2, fontsize="small",
               frameon=False)
     return fig
@@ -177,18 +268,106 @@ def plot_stress(solution, component: str = "von_mises", ax=None, n_target: int =
     return fig
 
 
-def plot_domain_dependence(results, ax=None):
-    """K_I and K_II against the J-domain radius, one pair of lines per tip, and J beside.
+def tip_references(items, reference) -> dict:
+    """``{tip id: (K_I, K_II)}`` from a mapping or a single pair (then for every tip)."""
+    if reference is None:
+        return {}
+    ids = [r.tip.id for r in items]
+    if isinstance(reference, Mapping):
+        unknown = sorted(set(reference) - set(ids))
+        if unknown:
+            raise ValueError(f"reference names tips {unknown}, but the results are of tips {ids}")
+        pairs = dict(reference)
+    else:
+        pairs = dict.fromkeys(ids, reference)
+    out = {}
+    for tid, v in pairs.items():
+        arr = np.asarray(v, dtype=float)
+        if arr.shape != (2,) or not np.all(np.isfinite(arr)):
+            raise ValueError(f"reference of tip {tid!r} must be a finite pair (K_I, K_II), got {v!r}")
+        out[tid] = (float(arr[0]), float(arr[1]))
+    return out
+
+
+def fit_ylim(ax, values, scale: float, marks=()) -> None:
+    """y-range of ``values`` with at least +-1% of ``scale`` around them (a flat line reads
+    as flat, not as magnified round-off); ``marks`` (reference levels) join the range when
+    they lie within ten times its half-width, else they stay off the panel."""
+    v = np.asarray(values, dtype=float)
+    lo, hi = float(v.min()), float(v.max())
+    half = max(0.5 * (hi - lo), 0.01 * abs(scale)) or 1.0
+    mid = 0.5 * (lo + hi)
+    near = [m for m in marks if abs(m - mid) <= 10 * half]
+    lo, hi = min([mid - half, *near]), max([mid + half, *near])
+    pad = 0.1 * (hi - lo)
+    ax.set_ylim(lo - pad, hi + pad)
+    ax.ticklabel_format(axis="y", useOffset=False)
+
+
+def k_panels(ax):
+    """``ax`` and a new axes below it sharing its x-axis, in ``ax``'s place (``ax`` keeps
+    the upper half of its grid cell, or of its position without one)."""
+    fig = ax.figure
+    spec = ax.get_subplotspec()
+    if spec is not None:
+        top, bottom = spec.subgridspec(2, 1, hspace=0.08)
+        ax.set_subplotspec(top)
+        below = fig.add_subplot(bottom, sharex=ax)
+    else:
+        x, y, w, h = ax.get_position().bounds
+        ax.set_position([x, y + 0.52 * h, w, 0.48 * h])
+        below = fig.add_axes([x, y, w, 0.48 * h], sharex=ax)
+    ax.tick_params(labelbottom=False)
+    return ax, below
+
+
+def draw_quantity(ax, tips, name: str, refs: dict, reference_label: str) -> None:
+    """``name`` ("KI", "KII" or "J") of ``tips`` (pairs colour, TipResult) against the radius:
+    markers per domain, a dotted mean, dashed levels of ``refs`` (tip id -> value), the
+    legend, and the y-range of :func:`fit_ylim`."""
+    sym, style = {"KI": ("$K_I$", "o-"), "KII": ("$K_{II}$", "s-"), "J": ("$J$", "^-")}[name]
+    levels = {}
+    for colour, res in tips:
+        vals = [getattr(d, name) for d in res.domains]
+        ax.plot([d.radius for d in res.domains], vals, style, color=colour, ms=5,
+                label=f"{res.tip.id} per domain (max - min {np.ptp(vals):.2g})")
+        ax.axhline(getattr(res, name), color=colour, ls=":", lw=1.0,
+                   label=f"{res.tip.id} mean {getattr(res, name):.4g}")
+        if res.tip.id in refs:
+            levels.setdefault(refs[res.tip.id], []).append((colour, res.tip.id))
+    for v, who in levels.items():
+        shared = len(levels) == 1 and len(who) == len(tips)
+        ax.axhline(v, color="k" if shared else who[0][0], ls="--", lw=1.2, label=f"{reference_label}"
+                   + ("" if shared else f" ({', '.join(t for _, t in who)})") + f": {sym} = {v:.4g}")
+    scale = max(abs(r.J) if name == "J" else float(np.hypot(r.KI, r.KII)) for _, r in tips)
+    fit_ylim(ax, [getattr(d, name) for _, r in tips for d in r.domains], scale, list(levels))
+    ax.set_ylabel(sym)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize="small")
+
+
+def plot_domain_dependence(results, ax=None, reference=None, reference_label: str = "reference"):
+    """K_I, K_II and J against the J-domain radius, each on its own panel.
+
+    Each domain's value is a marker, joined by lines; the mean over the domains is a
+    dotted level, a reference a dashed one. Each panel's y-range is its own (with at
+    least +-1% of ``|K|`` or ``|J|`` around the values, so round-off does not fill it).
 
     Parameters
     ----------
     results : TipResult or sequence of TipResult
-        From :func:`efgkit.fracture.sif.tip_result`; each domain's
-        values are drawn as markers joined by lines (K_I solid, K_II dashed)
-        and the mean over the domains as a dotted level. Without ``ax`` a
-        second panel shows J against the radius (seed 001 Fig. 15).
+        From :func:`efgkit.fracture.sif.tip_result`.
     ax : matplotlib Axes, optional
-        Draw K only, into these axes.
+        Without it, a new figure with one column per tip: K_I, K_II and J stacked on a
+        shared radius axis (seed 001 Fig. 15), the column titled with the tip id and the
+        spread. With it, K only, every tip in the same two panels: ``ax`` keeps K_I in
+        the upper half of its place and a new axes below it (in ``fig.axes``, sharing
+        the radius axis) shows K_II; J is not drawn.
+    reference : mapping or (float, float), optional
+        Known ``(K_I, K_II)``: ``{tip id: (K_I, K_II)}``, or one pair for every tip.
+        Drawn as dashed levels with legend entries ``"<reference_label>: K_I = ..."``.
+    reference_label : str
+        What the reference is (e.g. "exact (Westergaard)").
 
     Returns
     -------
@@ -201,45 +380,31 @@ def plot_domain_dependence(results, ax=None):
     >>> from efgkit.fracture.sif import TipResult
     >>> doms = tuple(SIF(1.0, 1.0 + 0.01 * k, 0.0, 0.0, 1.0, 100, 0.1 * (k + 1)) for k in range(3))
     >>> res = TipResult(Tip(np.zeros(2), 0.0, "c", 1), 1.01, 0.0, 1.0, 0.0, 0.02, doms)
-    >>> fig = plot_domain_dependence(res)
-    >>> len(fig.axes[0].lines)
-    4
+    >>> fig = plot_domain_dependence(res, reference=(1.0, 0.0))
+    >>> [a.get_ylabel() for a in fig.axes]
+    ['$K_I$', '$K_{II}$', '$J$']
+    >>> [line.get_label() for line in fig.axes[0].lines]
+    ['c:1 per domain (max - min 0.02)', 'c:1 mean 1.01', 'reference: $K_I$ = 1']
     """
     items = [results] if hasattr(results, "domains") else list(results)
     if not items or not all(hasattr(r, "domains") and hasattr(r, "tip") for r in items):
         raise TypeError("results must be a TipResult or a non-empty sequence of TipResult")
-    ax_j = None
+    refs = tip_references(items, reference)
+    tips = [(f"C{k % 10}", r) for k, r in enumerate(items)]
     if ax is None:
         import matplotlib.pyplot as plt
 
-        fig, (ax, ax_j) = plt.subplots(1, 2, figsize=(10.0, 4.0))
+        fig, grid = plt.subplots(3, len(tips), figsize=(4.8 * len(tips) + 0.6, 8.0), sharex="col",
+                                 squeeze=False, layout="constrained")
+        columns = [("", [tip], list(grid[:, j])) for j, tip in enumerate(tips)]
+        fig.suptitle("domain dependence of $K_I$, $K_{II}$ and $J$")
     else:
-        fig = ax.figure
-    for k, res in enumerate(items):
-        colour = f"C{k % 10}"
-        radius = [d.radius for d in res.domains]
-        ax.plot(radius, [d.KI for d in res.domains], "o-", color=colour,
-                label=f"{res.tip.id}: $K_I$ (spread {res.spread:.2g})")
-        ax.plot(radius, [d.KII for d in res.domains], "s--", color=colour,
-                label=f"{res.tip.id}: $K_{{II}}$")
-        ax.axhline(res.KI, color=colour, ls=":", lw=0.8)
-        ax.axhline(res.KII, color=colour, ls=":", lw=0.8)
-        if ax_j is not None:
-            ax_j.plot(radius, [d.J for d in res.domains], "o-", color=colour, label=res.tip.id)
-            ax_j.axhline(res.J, color=colour, ls=":", lw=0.8)
-    ax.set_xlabel("J-domain radius")
-    ax.set_ylabel("stress intensity factor")
-    ax.set_title("domain dependence of K")
-    ax.legend(fontsize="small")
-    if ax_j is not None:  # at least +-2% around the values: a flat line reads as flat
-        js = np.array([d.J for r in items for d in r.domains])
-        lo, hi, mid = js.min(), js.max(), 0.5 * (js.min() + js.max())
-        half = max(0.5 * (hi - lo), 0.02 * abs(mid))
-        ax_j.set_ylim(mid - 1.1 * half, mid + 1.1 * half)
-        ax_j.ticklabel_format(axis="y", useOffset=False)
-        ax_j.set_xlabel("J-domain radius")
-        ax_j.set_ylabel("J")
-        ax_j.set_title("domain dependence of J")
-        ax_j.legend(fontsize="small")
-        fig.tight_layout()
+        fig, columns = ax.figure, [("domain dependence of K: ", tips, list(k_panels(ax)))]
+    for title, group, panels in columns:
+        for q, (ax_q, name) in enumerate(zip(panels, ("KI", "KII", "J"), strict=False)):
+            draw_quantity(ax_q, group, name, {t: v[q] for t, v in refs.items()} if q < 2 else {},
+                          reference_label)
+        panels[-1].set_xlabel("J-domain radius")
+        panels[0].set_title(title + ", ".join(f"tip {r.tip.id} (spread {r.spread:.2g} of |K|)"
+                                              for _, r in group))
     return fig
