@@ -106,11 +106,11 @@ def sif_integrals(n_side: int, repeat: int) -> dict:
     scene = Scene(Domain.rectangle(-1, -1, 1, 1), Elastic(1.0, 0.3),
                   supports=tuple(Support(e, ux=W, uy=W) for e in ("left", "bottom", "right", "top")),
                   cracks=(Crack([[-1.0, 0.0], [0.0, 0.0]], tips=(False, True)),))
-    sol = solve(scene, EFG(spacing=2.0 / (n_side - 1), bc="penalty"))
+    sol = solve(scene, EFG(spacing=2.0 / (n_side - 1), bc="penalty", enrichment="none"))
     radii = {3: (0.3, 0.5, 0.7), 17: tuple(np.linspace(0.1, 0.9, 17))}
     out = {"n_nodes": sol.nodes.n, "n_points": sol.disc.points.n}
     for k, rs in radii.items():
-        out[f"sifs_{k}_s"], res = timed(lambda rs=rs: sol.sifs(radii=rs), repeat)
+        out[f"sifs_{k}_s"], res = timed(lambda rs=rs: sol.sifs(radii=rs, error=False), repeat)
         out[f"KI_{k}"] = res[0].KI
     x, w, tip, m = sol.disc.points.x, sol.disc.points.w, scene.tips[0], scene.material
     grad = sol.gradient()

@@ -38,12 +38,17 @@ class MeshlessSolution(Solution):
     coeffs: np.ndarray
     info: dict = field(default_factory=dict)
     timings: dict = field(default_factory=dict)
+    resolve: object = field(default=None, repr=False)  # method -> Solution of the same scene
 
     discretization_figure = "nodes"
 
     @property
     def kind(self) -> str:
         return "efg"
+
+    @property
+    def represents_tip_singularity(self) -> bool:
+        return self.method.enrichment != "none"
 
     @property
     def scene(self):
@@ -81,28 +86,12 @@ class MeshlessSolution(Solution):
         k = int(np.argmin(np.hypot(*(nodes.x - tip.x).T)))
         return float(nodes.radius[k] / self.method.d_max)
 
-    def sifs(self, radii=None, q="wendland_c2", spread_tol: float = 0.01) -> tuple:
-        """K_I, K_II, J and T of every crack tip, from interaction integrals over domains.
-
-        The integrals (:mod:`efgkit.fracture.integrals`) run over the domain
-        quadrature points, with the crack-face pressure term when the crack
-        is pressurised; each tip's result is the mean over the domains with
-        its spread (:func:`efgkit.fracture.sif.tip_result`).
-
-        Parameters
-        ----------
-        radii : sequence of float, or callable ``tip -> radii``, optional
-            Domain radii (default: :func:`~efgkit.fracture.sif.default_radii`
-            with the spacing at the tip).
-        q : str or callable
-            q-function kind (see :class:`~efgkit.fracture.qfunctions.QFunction`).
-        spread_tol : float
-            Relative spread of K over the domains above which a warning is issued.
-
-        Returns
-        -------
-        tuple of TipResult, one per tip of ``scene.tips``.
-        """
+    def _sifs(self, radii=None, q="wendland_c2", spread_tol: float = 0.01) -> tuple:
+        """The tips' results without the error estimate (:meth:`Solution.sifs
+        <efgkit.solution.Solution.sifs>`): the integrals of :mod:`efgkit.fracture.integrals`
+        over the domain quadrature points, with the crack-face pressure term when the crack
+        is pressurised; radii default to :func:`~efgkit.fracture.sif.default_radii` with
+        the spacing at the tip."""
         from .fracture.sif import face_loads, tip_radii, tip_result
 
         x, w = self.disc.points.x, self.disc.points.w

@@ -391,8 +391,9 @@ def _out(v, path: str):
 
 def _record(obj, table: str, path: str) -> dict:
     values = {k: getattr(obj, k) for k, read in _SCHEMA[table][2].items() if read}
+    # () is left out, except EFG zones, where () (none) differs from None (automatic)
     return {k: _out(v, _join(path, k)) for k, v in values.items()
-            if v is not None and not (isinstance(v, tuple) and not v)}
+            if v is not None and not (isinstance(v, tuple) and not v and k != "zones")}
 
 
 def _loop_out(loop: Loop) -> dict:

@@ -283,7 +283,7 @@ def _bar():
     ({"h": 0.1, "order": True}, ValueError, "order must be 1 or 2"),
     ({"h": 0.1, "grading": 0.9}, ValueError, r"grading must lie in \(1, 4\]"),
     ({"h": 0.1, "quarter_point": True, "order": 1}, ValueError, "quarter_point=True needs order=2"),
-    ({"h": 0.1, "quarter_point": "yes"}, TypeError, "quarter_point must be True or False"),
+    ({"h": 0.1, "quarter_point": "yes"}, TypeError, "quarter_point must be True, False or None"),
     ({"h": None}, TypeError, "h must be a real number"),
 ])
 def test_bad_fem_descriptions_are_refused(kwargs, err, match):
@@ -385,14 +385,14 @@ def test_crack_face_pressure_is_loaded_on_both_faces():
     assert np.abs(free.displacement(p) - u(p)).max() > 1e-3 * np.abs(u(p)).max()
 
 
-def test_sifs_default_radii_follow_the_tip_elements():
+def test_sifs_default_radii_are_lengths_of_the_geometry():
     scene, _ = _williams_patch(1.0, 0.0)
-    sol = solve_fem(scene, FEM(0.25, tip_h=0.02, quarter_point=True))
+    sol = solve_fem(scene, FEM(0.05, tip_h=0.02, quarter_point=True))
     tip = scene.tips[0]
     at_tip = np.any(sol.mesh.t == sol.mesh.tip_nodes[0], axis=1)
     assert sol.tip_size(tip) == pytest.approx(sol.mesh.size[at_tip].mean())
-    res, = sol.sifs()  # default_radii: 10, 12.5 and 15 tip elements
-    assert [d.radius for d in res.domains] == pytest.approx(10 * sol.tip_size(tip) * np.array([1, 1.25, 1.5]))
+    res, = sol.sifs()  # default_radii: 10, 12.5 and 15 h, whatever the tip elements
+    assert [d.radius for d in res.domains] == pytest.approx(10 * 0.05 * np.array([1, 1.25, 1.5]))
     assert res.KI == pytest.approx(1.0, abs=2e-3)
     with pytest.raises(ValueError, match="is not a tip of the scene"):
         sol.tip_size(Crack([[0.5, 0.5], [0.6, 0.5]]).tip(1))

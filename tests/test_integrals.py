@@ -392,22 +392,23 @@ def test_result_record_and_json():
     res = tip_result(sc, tip, x, w, s, g, [1.0, 0.5, 0.7])
     assert isinstance(res, TipResult) and all(isinstance(d, SIF) for d in res.domains)
     d = json.loads(json.dumps(res.as_dict()))
-    assert list(d) == ["id", "x", "y", "KI", "KII", "J", "T", "spread", "domains", "warnings"]
+    assert list(d) == ["id", "x", "y", "KI", "KII", "J", "T", "spread", "error", "domains",
+                       "warnings"]
+    assert d["error"] is None  # estimated by Solution.sifs, not by tip_result
     assert (d["x"], d["y"]) == (1.0, 2.0) and [e["radius"] for e in d["domains"]] == [0.5, 0.7, 1.0]
     assert set(d["domains"][0]) == {"radius", "KI", "KII", "J", "T", "n_points"}
     with pytest.raises(AttributeError):
         res.KI = 0.0  # frozen
     fig = plot_domain_dependence([res, res])
-    assert len(fig.axes[0].lines) == 8
+    assert len(fig.axes) == 6 and len(fig.axes[0].lines) == 2  # K_I, K_II, J per tip
     plt.close(fig)
 
 
 def test_default_radii():
     sc = _scene((0.0, 0.0), 0.0)
     assert default_radii(sc, sc.tips[0], 0.1) == pytest.approx((1.0, 1.25, 1.5))
-    with pytest.warns(UserWarning, match="only 3 spacings fit"):  # 0.9 * 5 / 15 h = 3 h
-        r = default_radii(sc, sc.tips[0], 1.0)
-    assert r[-1] == pytest.approx(4.5)
+    r = default_radii(sc, sc.tips[0], 1.0)  # shrunk to 0.9 of the free radius 5, no warning
+    assert r == pytest.approx((3.0, 3.75, 4.5))
     with pytest.raises(ValueError, match="at least three"):
         default_radii(sc, sc.tips[0], 0.1, multiples=(10, 20))
 

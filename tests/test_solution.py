@@ -3,6 +3,7 @@
 import inspect
 import subprocess
 import sys
+import warnings
 
 import numpy as np
 import pytest
@@ -109,3 +110,60 @@ def test_record_keys_agree(tmp_path):
     # uniform sigma_xx = 1 on a 2 x 1 bar, E = 1000: U = sigma^2 A / (2 E) = 1e-3 (exact);
     # measured 4.8e-9 (EFG) and 1e-14 (FEM) relative
     assert [r["energy"] for r in recs] == pytest.approx([1e-3, 1e-3], rel=1.5e-8)
+
+
+# --- the error estimate of K ----------------------------------------------------------
+
+
+def test_error_estimate_tracks_the_true_error():
+    """Exact K_I = 1 (the prescribed Williams field): the estimate is within [0.5, 10] times
+    the true error, for the automatic defaults and for the plain linear basis."""
+    for method in (EFG(spacing=0.5), EFG(spacing=0.25, enrichment="none", zones=(), bc="penalty")):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UserWarning)  # the plain one warns (test below)
+            (tip,) = solve(PATCH, method).sifs()
+        true = max(abs(tip.KI - 1.0), abs(tip.KII))
+        # measured: automatic 1.5e-5 against a true 5.5e-6 (2.7x); plain 6.1e-2 against 2.6e-2 (2.4x)
+        assert 0.5 <= tip.error / true <= 10.0, (method, tip.error, true)
+
+
+def test_coarse_model_warns_that_its_k_is_unreliable():
+    method = EFG(spacing=0.25, enrichment="none", zones=(), bc="penalty")
+    with pytest.warns(UserWarning, match=r"tip c:1: estimated error of K 6\.\de-02 \(against a solve "
+                      r"at twice the spacing\) exceeds 0.01: refine near the tip"):
+        (tip,) = solve(PATCH, method).sifs()
+    assert any("unreliable" in w for w in tip.warnings)
+
+
+def test_no_estimate_when_the_coarser_solve_fails():
+    method = EFG(spacing=0.5, enrichment="none", zones=())
+    with pytest.warns(UserWarning, match="no error estimate: the solve at twice the spacing failed"):
+        (tip,) = solve(PATCH, method).sifs()
+    assert tip.error is None
+    (tip,) = solve(PATCH, method).sifs(error=False, spread_tol=1.0)
+    assert tip.error is None and not tip.warnings
+
+
+def test_coarsened_keeps_the_geometry_and_doubles_the_spacings():
+    m = EFG(spacing=0.1, enrichment="pu", zones=(), rosette=None).coarsened()
+    assert (m.spacing, m.enrich_radius) == (0.2, pytest.approx(0.2))  # pu radius: 2 x 0.1 kept
+    with pytest.raises(ValueError, match="user coordinates cannot be coarsened"):
+        EFG(spacing=0.1, coordinates=np.zeros((4, 2))).coarsened()
+
+
+
+def test_see_through_without_enrichment_and_oversized_domains_are_flagged():
+    """Two answers that used to pass with at most a spread warning (issue review: K_I 22.9
+    against 34.0, and 0.33 for domains larger than the body) now say they are unreliable."""
+    from efgkit import Traction
+
+    plate = Scene(Domain.rectangle(0, 0, 7, 16), Elastic(3e7, 0.25, "strain"),
+                  supports=(Support("bottom", ux=0.0, uy=0.0),),
+                  tractions=(Traction("top", (1.0, 0.0)),),
+                  cracks=(Crack([[0.0, 8.0], [3.5, 8.0]], tips=(False, True), name="edge"),))
+    plain = EFG(spacing=0.5, crack_rule="see_through", enrichment="none")
+    with pytest.warns(UserWarning, match=r"tip edge:1: estimated error of K 6\.\de-01"):
+        solve(plate, plain).sifs()  # measured 0.66 (K_I 22.9 against 34.0)
+    with pytest.warns(UserWarning, match="J domain of radius 6 leaves the body"):
+        (tip,) = solve(plate, EFG(spacing=0.5)).sifs(radii=(6.0, 8.0, 10.0))
+    assert tip.error > 0.1  # measured 0.17

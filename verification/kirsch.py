@@ -50,8 +50,10 @@ def main(quick: bool = False, out_dir=None) -> dict:
     rep.metrics.update({"spacing": list(spacings), "n_nodes": nodes, "scf": scf,
                         "energy_error": energy, "rate_energy": rate})
     rep.ref("scf", 3.0, "seed 003 Eq. (35a) at (x, y) = (0, a)")
+    # measured: 3.5e-3 at h = 0.0625 (full), 7.2e-3 at h = 0.25 (quick, which cannot reach
+    # the full bound); each bound within 3x of its measurement
     rep.check("finest scf relative error", abs(scf[-1] / 3.0 - 1), "<=", 0.005 if not quick
-              else 0.05)
+              else 0.02)
     rep.check("energy error decreases", energy[-1] / energy[0], "<=", 0.6)
     return rep.write(out_dir)
 

@@ -54,13 +54,15 @@ RAMP = dict(ramp_inner=0.25 * A, enrich_radius=0.5 * A)  # r1, r2 of seed 003 Eq
 def _kw(label: str, h: float) -> dict:
     """EFG fields of a variant at spacing h (seed 003 Fig. 40: lambda = 2 with enrichment)."""
     return {
-        "linear_visibility": dict(crack_rule="visibility"),
-        "linear_diffraction": dict(crack_rule="diffraction", rule_power=2.0),
-        "linear_transparency": dict(crack_rule="transparency", kappa=0.5),
-        "linear_transparency_between_rows": dict(crack_rule="transparency", kappa=0.5),
-        "linear_diffraction_between_rows": dict(crack_rule="diffraction", rule_power=2.0),
-        "linear_see_through": dict(crack_rule="see_through"),
-        "rosette": dict(rosette=Rosette(h, rings=3, per_ring=13)),
+        "linear_visibility": dict(crack_rule="visibility", enrichment="none"),
+        "linear_diffraction": dict(crack_rule="diffraction", rule_power=2.0, enrichment="none"),
+        "linear_transparency": dict(crack_rule="transparency", kappa=0.5, enrichment="none"),
+        "linear_transparency_between_rows": dict(crack_rule="transparency", kappa=0.5,
+                                                 enrichment="none"),
+        "linear_diffraction_between_rows": dict(crack_rule="diffraction", rule_power=2.0,
+                                                enrichment="none"),
+        "linear_see_through": dict(crack_rule="see_through", enrichment="none"),
+        "rosette": dict(rosette=Rosette(h, rings=3, per_ring=13), enrichment="none"),
         "radial": dict(enrichment="radial", crack_rule="visibility", **RAMP),  # Sect. 5.3.2
         "full": dict(enrichment="full", d_max=3.0, **RAMP),
         # R = 1 on the whole patch (r <= sqrt(2) a < r1): the basis contains the exact field

@@ -7,7 +7,7 @@ method (seed 003 Sects. 2-3); :class:`Zone` is a graded-refinement region.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -16,13 +16,17 @@ __all__ = ["EFG", "Zone", "Rosette", "WEIGHTS", "BASES", "BC_METHODS", "QUADRATU
 
 WEIGHTS = ("quartic", "gaussian", "cubic")
 BASES = ("linear", "quadratic")
-BC_METHODS = ("penalty", "lagrange", "variational", "modified_mls")
+BC_METHODS = ("auto", "penalty", "lagrange", "variational", "modified_mls")
 QUADRATURES = ("cells", "triangles")
 SOLVERS = ("auto", "direct", "amg")
 CRACK_RULES = ("visibility", "diffraction", "transparency", "see_through")
 HOLE_RULES = ("see_through", "visibility", "diffraction")
-ENRICHMENTS = ("none", "radial", "full", "extrinsic_mls", "pu")
+ENRICHMENTS = ("auto", "none", "radial", "full", "extrinsic_mls", "pu")
 RAMPS = ("linear", "quintic")
+# Graded zones of the automatic tip refinement: (radius, spacing) in units of the spacing h.
+# Two steps (an abrupt change of spacing makes stresses ripple); docs/verification.md
+# (``defaults``) measures them.
+AUTO_TIP_ZONES = ((6.0, 0.5), (3.0, 0.25))
 
 
 def _positive(name, v, integer=False):
@@ -89,8 +93,9 @@ class EFG:
     ----------
     spacing : float
         Nodal spacing h of the regular grid (the user's length unit).
-    zones : tuple of Zone
-        Graded refinement zones.
+    zones : tuple of Zone, optional
+        Graded refinement zones; None (default): two graded zones at every crack
+        tip when the enrichment is automatic too (:meth:`for_scene`), ``()`` for none.
     perturb : float
         Random perturbation of interior nodes, as a fraction of the local
         spacing (0: regular grid); drawn from ``np.random.default_rng(seed)``.
@@ -118,8 +123,9 @@ class EFG:
         The same in refinement zones.
     cell_size : float, optional
         Background cell size (default: ``spacing``).
-    bc : {"penalty", "lagrange", "variational", "modified_mls"}
-        Essential boundary conditions: penalty (seed 003 Eq. 28), Lagrange
+    bc : {"auto", "penalty", "lagrange", "variational", "modified_mls"}
+        Essential boundary conditions ("auto": Lagrange with crack tips, penalty
+        otherwise, :meth:`for_scene`): penalty (seed 003 Eq. 28), Lagrange
         multipliers (Eq. 26), modified variational principle (Eq. 27,
         ``"variational"``, Nitsche-stabilised) or the modified MLS of seed 002 (Eqs. 6-19).
     penalty : float, optional
@@ -145,8 +151,9 @@ class EFG:
         Transparency: opaque at kappa h behind the tip (Eq. 33).
     rosette : Rosette, optional
         Star-shaped node array at every tip.
-    enrichment : {"none", "radial", "full", "extrinsic_mls", "pu"}
-        Crack-tip enrichment (seed 003 Sect. 5): intrinsic sqrt(r) basis
+    enrichment : {"auto", "none", "radial", "full", "extrinsic_mls", "pu"}
+        Crack-tip enrichment ("auto": extrinsic MLS for one tip, PU for several,
+        none without tips, :meth:`for_scene`) (seed 003 Sect. 5): intrinsic sqrt(r) basis
         (Eq. 52) or full near-tip basis (Eq. 50), ramped to the linear basis
         (Eqs. 53-56); extrinsic MLS with global K_I, K_II unknowns per tip
         (Eqs. 37-47); extrinsic partition of unity (Eqs. 48-49).
@@ -166,7 +173,7 @@ class EFG:
     """
 
     spacing: float
-    zones: tuple[Zone, ...] = ()
+    zones: tuple[Zone, ...] | None = None
     perturb: float = 0.0
     seed: int = 0
     coordinates: np.ndarray | None = None
@@ -178,7 +185,7 @@ class EFG:
     order: int = 4
     refined_order: int = 6
     cell_size: float | None = None
-    bc: str = "penalty"
+    bc: str = "auto"
     penalty: float | None = None
     solver: str = "auto"
     crack_rule: str = "diffraction"
@@ -186,7 +193,7 @@ class EFG:
     hole_rule: str = "see_through"
     kappa: float = 0.5
     rosette: Rosette | None = None
-    enrichment: str = "none"
+    enrichment: str = "auto"
     enrich_radius: float | None = None
     ramp: str = "quintic"
     ramp_inner: float = 0.0
@@ -194,8 +201,9 @@ class EFG:
 
     def __post_init__(self):
         _positive("spacing", self.spacing)
-        object.__setattr__(self, "zones", tuple(self.zones))
-        for z in self.zones:
+        if self.zones is not None:
+            object.__setattr__(self, "zones", tuple(self.zones))
+        for z in self.zones or ():
             if not isinstance(z, Zone):
                 raise TypeError(f"zones must hold Zone objects, got {type(z).__name__}")
         if not (isinstance(self.perturb, (int, float)) and 0 <= self.perturb < 0.5):
@@ -236,6 +244,79 @@ class EFG:
             raise ValueError(f"ramp_inner must lie in [0, enrich_radius = {self.ramp_outer}), "
                              f"got {self.ramp_inner!r}")
         _positive("tip_order", self.tip_order, integer=True)
+
+    def for_scene(self, scene) -> EFG:
+        """This discretisation with its automatic choices made for ``scene``.
+
+        * ``zones=None``: with the automatic enrichment, two graded zones at every crack
+          tip (:data:`AUTO_TIP_ZONES`: spacing h/2 within 6h, h/4 within 3h); none
+          without tips, with user ``coordinates``, or with an explicit enrichment (a
+          hand-built discretisation: the intrinsic ramp and PU radii default to
+          multiples of ``spacing``, which zones would silently change);
+        * ``enrichment="auto"``: extrinsic MLS (global K_I, K_II unknowns, seed 003 Eqs.
+          37-47) for a single tip, extrinsic partition of unity with ``enrich_radius``
+          = h for several (the global Williams fields of two tips would overlap), and
+          none without tips or with the visibility rule (which the extrinsic
+          enrichments refuse);
+        * ``bc="auto"``: Lagrange multipliers with crack tips (K 2 to 16 times more
+          accurate than the penalty method at equal cost, docs/verification.md
+          ``defaults``), the penalty method otherwise.
+
+        A scene without cracks gets none of the crack work. Explicit choices are kept.
+
+        Examples
+        --------
+        >>> from efgkit import Crack, Domain, Elastic, Scene
+        >>> sc = Scene(Domain.rectangle(0, 0, 2, 1), Elastic(1.0, 0.3),
+        ...            cracks=(Crack([[0.0, 0.5], [1.0, 0.5]], tips=(False, True)),))
+        >>> m = EFG(spacing=0.1).for_scene(sc)
+        >>> m.enrichment, m.bc, [(z.radius, z.spacing) for z in m.zones]
+        ('extrinsic_mls', 'lagrange', [(0.6000000000000001, 0.05), (0.30000000000000004, 0.025)])
+        >>> EFG(spacing=0.1).for_scene(Scene(Domain.rectangle(0, 0, 1, 1), Elastic(1.0, 0.3))).bc
+        'penalty'
+        """
+        tips = scene.tips
+        kw = {}
+        if self.zones is None:
+            kw["zones"] = () if self.coordinates is not None or self.enrichment != "auto" else tuple(
+                Zone(tuple(t.x), r * self.spacing, f * self.spacing)
+                for t in tips for r, f in AUTO_TIP_ZONES)
+        if self.enrichment == "auto":
+            if not tips or self.crack_rule == "visibility":
+                kw["enrichment"] = "none"
+            elif len(tips) == 1:
+                kw["enrichment"] = "extrinsic_mls"
+            else:
+                kw["enrichment"] = "pu"
+                kw["enrich_radius"] = self.spacing if self.enrich_radius is None else self.enrich_radius
+        if self.bc == "auto":
+            kw["bc"] = "lagrange" if tips else "penalty"
+        return replace(self, **kw) if kw else self
+
+    def coarsened(self, factor: float = 2.0) -> EFG:
+        """The same discretisation with every spacing (grid, zones, cells, rosette radius)
+        ``factor`` times larger: the companion solve of the error estimate
+        (:meth:`efgkit.solution.Solution.sifs`). Lengths of the geometry (enrichment and
+        ramp radii, zone radii) stay. User ``coordinates`` cannot be coarsened.
+
+        Examples
+        --------
+        >>> EFG(spacing=0.1, zones=(Zone((0, 0), 1.0, 0.05),)).coarsened().zones[0].spacing
+        0.1
+        """
+        if self.coordinates is not None:
+            raise ValueError("an EFG with user coordinates cannot be coarsened: give spacing and "
+                             "zones instead, or skip the error estimate (sifs(error=False))")
+        _positive("factor", factor)
+        return replace(
+            self, spacing=self.spacing * factor,
+            zones=None if self.zones is None else tuple(
+                Zone(z.centre, z.radius, z.spacing * factor) for z in self.zones),
+            cell_size=None if self.cell_size is None else self.cell_size * factor,
+            rosette=None if self.rosette is None else replace(
+                self.rosette, radius=self.rosette.radius * factor),
+            enrich_radius=self.ramp_outer if self.enrichment in ("radial", "full")
+            else self.pu_radius if self.enrichment == "pu" else self.enrich_radius)
 
     @property
     def ramp_outer(self) -> float:
