@@ -29,8 +29,11 @@ displacements: evaluate fields with the methods, never index the coefficients.
 from __future__ import annotations
 
 import dataclasses
+import math
 import re
+import warnings
 from abc import ABC, abstractmethod
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -157,11 +160,7 @@ class Solution(ABC):
         return self.__dict__["_companion"]
 
     def _with_errors(self, results: tuple, q, spread_tol: float) -> tuple:
-        """``results`` with ``error`` from the coarse companion (module docstring of sifs)."""
-        import math
-        import warnings
-        from dataclasses import replace
-
+        """``results`` with ``error`` from the coarse companion (see :meth:`sifs`)."""
         radii = {r.tip.id: tuple(d.radius for d in r.domains) for r in results}
         try:
             with warnings.catch_warnings():  # the companion's own warnings are not the user's
