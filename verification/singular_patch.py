@@ -71,7 +71,7 @@ SENSITIVITY = {
         "full", dict(INTRINSIC_DISC, rule_power=2.0, tip_order=16, refined_order=10), False),
     **{f"radial, d_max {d:g}": ("radial", dict(d_max=d), False) for d in (2.0, 2.25, 2.75)},
     "radial, diffraction lambda = 2": ("radial", dict(crack_rule="diffraction"), False),
-    "radial, diffraction lambda = 2, d_max 2 (efgkit defaults)": (
+    "radial, diffraction lambda = 2, d_max 2 (the default rule and support)": (
         "radial", dict(crack_rule="diffraction", d_max=2.0), False),
     "radial, efgkit default disc (r2 = 4h, r1 = 0)": (
         "radial", dict(enrich_radius=None, ramp_inner=0.0), False),
