@@ -258,8 +258,8 @@ class EFG:
           = h for several (the global Williams fields of two tips would overlap), and
           none without tips or with the visibility rule (which the extrinsic
           enrichments refuse);
-        * ``bc="auto"``: Lagrange multipliers with crack tips (K 2 to 16 times more
-          accurate than the penalty method at equal cost, docs/verification.md
+        * ``bc="auto"``: Lagrange multipliers with crack tips (K as accurate as with the
+          penalty method, or up to 13 times more, at equal cost, docs/verification.md
           ``defaults``), the penalty method otherwise.
 
         A scene without cracks gets none of the crack work. Explicit choices are kept.
