@@ -16,7 +16,7 @@ STAGES = [
     ("nodes", "search", "quadrature", "fracture"),              # points; fields -> K, J
     ("approx",),                                                # shape functions
     ("system",),                                                # K, f, M; constraints; solvers
-    ("methods.discretize", "methods.boundary"),                 # scene + method -> discrete
+    ("methods.discretize", "methods.boundary", "methods.size"),  # scene + method -> discrete
     ("io", "plot"),                                             # files and figures of results
     ("solution", "meshless_solution"),                          # the result contract
     ("static", "fem"),                                          # drivers and the FE reference

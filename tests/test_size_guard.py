@@ -8,7 +8,8 @@ import pytest
 
 import efgkit.nodes as nodes_module
 from efgkit import EFG, Crack, Domain, Elastic, Rosette, Scene, Zone
-from efgkit.methods.discretize import discretize, size_estimate
+from efgkit.methods.discretize import discretize
+from efgkit.methods.size import size_estimate
 from efgkit.nodes import ALWAYS_ALLOWED, FALLBACK_MEMORY, available_memory, check_memory, generate_nodes
 from efgkit.scenefile import load_study
 

@@ -20,31 +20,17 @@ from ..approx.enrichment import INTRINSIC, Enrichment
 from ..approx.hole_rules import Holes
 from ..approx.shape import Shape
 from ..approx.tip_functions import TipGeometry
-from ..nodes import NodeCloud, area_in_disc, check_memory, estimate_nodes, generate_nodes
+from ..nodes import NodeCloud, check_memory, generate_nodes
 from ..problem.geometry import Domain, Edge
 from ..problem.scene import Scene
 from ..quadrature.cells import cell_points, triangle_points
-from ..quadrature.rules import Points, triangle_rule
+from ..quadrature.rules import Points
 from ..search import BoxGrid
-from ..system.linalg import AUTO_AMG_THRESHOLD
 from .efg import EFG
+from .size import size_estimate
 
-__all__ = ["Discretization", "discretize", "support_edges", "crack_mouths", "SizeEstimate",
-           "size_estimate"]
+__all__ = ["Discretization", "discretize", "support_edges", "crack_mouths"]
 
-# Size guard: the peak memory of discretize and a static solve, estimated before allocating.
-# Calibration (the larger of the tracemalloc peak and the peak RSS above the interpreter; unit
-# plate, bc="lagrange", order 4, d_max 2, regular grid unless stated): 19,881 nodes, 313,600
-# points (width 13): discretize 152 MB, solve (AMG) 516 MB; order 6 (705,600 points) 720 MB;
-# d_max 3 (width 30) 1184 MB; perturb 0.3 (width 22) 692 MB; solver="direct" 967 MB (SuperLU's
-# factors, RSS). 40,401 nodes, 640,000 points: 1052 MB; 5,041 nodes (SuperLU) 176 MB.
-# Fit: 40 B per padded neighbour slot (points x widest neighbour list: phi, d/dx, d/dy, the
-# index and the mask, and the search) plus, per node, 18 kB (CG with AMG) or 49 kB
-# (nodes / 2e4)^0.25 (SuperLU), times (d_max / 2)^2 (node pairs of the stiffness).
-# Check: the four examples refined to 4,600-20,000 nodes (solve, sifs) peak at 1/1.1-1/2.1 of it.
-SLOT_BYTES = 40.0
-NODE_BYTES_AMG = 18e3
-NODE_BYTES_DIRECT = 49e3
 
 
 @dataclass(frozen=True, eq=False)
@@ -139,7 +125,8 @@ def discretize(scene: Scene, method: EFG) -> Discretization:
     ------
     ValueError
         Before allocating anything, when discretising and solving would need more memory
-        than the machine has available (:func:`size_estimate`, :func:`efgkit.nodes.check_memory`);
+        than the machine has available (:func:`efgkit.methods.size.size_estimate`,
+        :func:`efgkit.nodes.check_memory`);
         and for the combinations of options that are not supported.
 
     Examples
@@ -182,7 +169,7 @@ def discretize(scene: Scene, method: EFG) -> Discretization:
     t0 = time.perf_counter()
     if method.quadrature == "cells":
         points = cell_points(scene.domain, method.cell_size or method.spacing, method.order,
-                             zones=method.zones + tip_zones(scene, method),
+                             zones=method.zones + method.tip_cell_zones(scene),
                              refined_order=method.refined_order, cracks=scene.cracks,
                              tip_rays=shadow_rays(scene, nodes), tip_order=method.tip_order)
     else:
@@ -198,93 +185,6 @@ def discretize(scene: Scene, method: EFG) -> Discretization:
     shape = approx.shape(points.x)
     timings["shape"] = time.perf_counter() - t0
     return Discretization(scene, method, nodes, points, shape, approx, timings)
-
-
-@dataclass(frozen=True)
-class SizeEstimate:
-    """What :func:`discretize` and a static solve would allocate, estimated from areas:
-    ``nodes``, ``points`` (domain quadrature), ``width`` (padded width of the neighbour
-    lists: pi d_max^2, more on irregular clouds), ``shape_bytes`` (shape functions at the
-    points), ``solve_bytes`` (stiffness, constraints, linear solve) and the nodes and points
-    by source (``node_parts``, ``point_parts``: "arguments = values" -> count)."""
-
-    nodes: float
-    points: float
-    width: int
-    shape_bytes: float
-    solve_bytes: float
-    node_parts: dict
-    point_parts: dict
-
-    @property
-    def bytes(self) -> float:
-        return self.shape_bytes + self.solve_bytes
-
-
-def size_estimate(scene: Scene, method: EFG) -> SizeEstimate:
-    """Estimate the size of ``discretize(scene, method)`` and a static solve, allocating nothing.
-
-    Examples
-    --------
-    >>> from efgkit import Domain, EFG, Elastic, Scene
-    >>> est = size_estimate(Scene(Domain.rectangle(0, 0, 1, 1), Elastic(1.0, 0.3)),
-    ...                     EFG(spacing=1 / 140, bc="lagrange"))
-    >>> round(est.nodes, -2), round(est.points, -4), est.width, round(est.bytes / 1e6, -1)
-    (20200.0, 350000.0, 14, 560.0)
-    >>> # measured: 19,881 nodes, 313,600 points, width 13, peak 516 MB (module comment)
-    """
-    method = method.for_scene(scene)
-    dom, cracks = scene.domain, scene.cracks
-    nodes = estimate_nodes(dom, method, cracks)
-    h, o, ro = method.spacing, method.order, method.refined_order
-    c = method.cell_size or h
-    segs = np.concatenate([dom.boundary_segments()]  # crack segments twice: two faces
-                          + [cr.segments for cr in cracks for _ in (0, 1)])
-
-    def cut(size, order, centre=(0.0, 0.0), radius=np.inf):
-        # cells cut by the boundary: ~4 triangles each, plus 2 per polyline segment in them
-        near = np.hypot(*(segs.mean(axis=1) - centre).T) <= radius
-        length = np.hypot(*(segs[near, 1] - segs[near, 0]).T).sum()
-        return float(2 * near.sum() + 4 * length / size) * len(triangle_rule(2 * order - 1)[1])
-
-    base = f"spacing = {h!r}" + (f", cell_size = {c!r}" if method.cell_size else "")
-    if method.quadrature == "triangles":
-        parts = {f"{base}, quadrature='triangles', order = {o}":
-                 2 * nodes.nodes * len(triangle_rule(2 * o - 1)[1])}
-    else:  # full cells of the grid and of the split cells in zones, and the cut cells
-        parts = {f"{base}, order = {o}": dom.area / c**2 * o**2 + cut(c, o)}
-        for i, z in enumerate(method.zones + tip_zones(scene, method)):
-            name = (f"zones[{i}] (radius {z.radius!r}, spacing {z.spacing!r})"
-                    if i < len(method.zones) else f"the cells near the tips (radius {z.radius:g})")
-            name += f" with refined_order = {ro}"
-            k = math.ceil(c / z.spacing - 1e-9)
-            parts[name] = (parts.get(name, 0.0) + cut(c / k, ro, z.centre, z.radius)
-                           + area_in_disc(dom, z.centre, z.radius) * (k * ro / c) ** 2)
-    irregular = 1.0 if method.regular and method.rosette is None else 1.75
-    width = math.ceil(math.pi * method.d_max**2 * irregular) + 1
-    if method.rosette is not None and scene.tips:  # near the tip a point may see all of it
-        width += method.rosette.rings * (method.rosette.per_ring - 1) + 1
-    if scene.tips and method.quadrature == "cells":  # fans of ~width + 4 triangles in 4 cells
-        parts[f"tip_order = {method.tip_order}"] = 4 * len(scene.tips) * (width + 4) * method.tip_order**2
-    points = sum(parts.values())
-    direct = method.solver == "direct" or (method.solver == "auto" and 2 * nodes.nodes <= AUTO_AMG_THRESHOLD)
-    per_node = NODE_BYTES_DIRECT * max(1.0, nodes.nodes / 2e4) ** 0.25 if direct else NODE_BYTES_AMG
-    return SizeEstimate(nodes.nodes, points, width, SLOT_BYTES * points * width,
-                        per_node * (method.d_max / 2) ** 2 * irregular**0.5 * nodes.nodes,
-                        nodes.parts, parts)
-
-
-def tip_zones(scene: Scene, method: EFG) -> tuple:
-    """Quadrature zones around the crack tips: cells within max(2 h, the intrinsic enrichment
-    radius) of a tip are split in 2 x 2 and use ``method.refined_order`` (the cells holding
-    the tip itself get the fan rule of order ``method.tip_order``)."""
-    from .efg import Zone
-
-    h = method.cell_size or method.spacing
-    radius = 2.0 * h
-    if method.enrichment in INTRINSIC:
-        radius = max(radius, method.ramp_outer)
-    return tuple(Zone(tuple(t.x), radius, h / 2) for t in scene.tips)
 
 
 def shadow_rays(scene: Scene, nodes: NodeCloud) -> list[np.ndarray]:

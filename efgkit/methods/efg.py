@@ -293,6 +293,16 @@ class EFG:
             kw["bc"] = "lagrange" if tips else "penalty"
         return replace(self, **kw) if kw else self
 
+    def tip_cell_zones(self, scene) -> tuple[Zone, ...]:
+        """Quadrature zones around the crack tips of ``scene``: cells within max(2 h, the
+        intrinsic enrichment radius) of a tip are split 2 x 2 and use ``refined_order`` (the
+        cells holding the tip itself get the fan rule of order ``tip_order``)."""
+        h = self.cell_size or self.spacing
+        radius = 2.0 * h
+        if self.enrichment in ("radial", "full"):  # the intrinsic enrichments
+            radius = max(radius, self.ramp_outer)
+        return tuple(Zone(tuple(t.x), radius, h / 2) for t in scene.tips)
+
     def coarsened(self, factor: float = 2.0) -> EFG:
         """The same discretisation with every spacing (grid, zones, cells, rosette radius)
         ``factor`` times larger: the companion solve of the error estimate
