@@ -10,12 +10,10 @@ failed, 2 when the input was refused.
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import importlib.util
 import json
 import math
 import os
-import re
 import sys
 import textwrap
 import time
@@ -79,15 +77,8 @@ def _stage(refused: str, failed: str):
 # ----------------------------------------------------------------------------- run
 
 
-def _method_fields(method) -> dict:
-    """The discretisation choices as solved (automatic ones made) as a dict, user coordinates
-    left out."""
-    return {f.name: getattr(method, f.name) for f in dataclasses.fields(method)
-            if f.name != "coordinates"}
 
 
-def _safe_name(name: str) -> str:
-    return re.sub(r"[^A-Za-z0-9_.-]+", "_", name).strip("._") or "scene"
 
 
 def _num(v, fmt: str) -> str:
@@ -170,8 +161,9 @@ def cmd_run(args) -> int:
     if not path.is_file():
         raise CLIError(f"scene file {str(path)!r} " + ("is not a file" if path.exists()
                                                        else "not found"))
-    from .io import jsonable
+    from .io import file_name, jsonable
     from .scenefile import load_study
+    from .solution import method_record
     from .static import solve
 
     t_run = time.perf_counter()
@@ -183,7 +175,7 @@ def cmd_run(args) -> int:
         msg = _message(err)  # scene-file errors name the file already
         raise CLIError(msg if str(path) in msg else f"{path}: {msg}") from err
     timings["load"] = time.perf_counter() - t0
-    name = _safe_name(scene.name if scene.name != "scene" else path.stem)
+    name = file_name(scene.name if scene.name != "scene" else path.stem)
     out = Path(args.out) if args.out is not None else Path("out") / name
     _check_out(out, args.out is not None)
     with _stage(f"{path}: cannot solve", f"{path}: the solve failed"):
@@ -218,7 +210,7 @@ def cmd_run(args) -> int:
                        FAILED) from err
     timings["total"] = time.perf_counter() - t_run
 
-    rep = {"scene": scene.name, "file": str(path), "method": _method_fields(sol.method),
+    rep = {"scene": scene.name, "file": str(path), "method": method_record(sol.method),  # as solved
            **sol.sizes(), "timings": timings, "outputs": outputs,
            "energy": energy, "errors": errors, "solver": dict(sol.info),
            "tips": [t.as_dict() for t in tips]}

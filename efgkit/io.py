@@ -11,6 +11,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -320,6 +321,18 @@ def _nonfinite_array(obj, key: str = "obj") -> str | None:
         if found is not None:
             return found
     return None
+
+
+def file_name(name: str) -> str:
+    """``name`` made safe as a file name: runs of other characters than letters, digits and
+    ``_.-`` become ``_`` (``"scene"`` if nothing is left).
+
+    Examples
+    --------
+    >>> file_name("SENT a/W = 0.5")
+    'SENT_a_W_0.5'
+    """
+    return re.sub(r"[^A-Za-z0-9_.-]+", "_", name).strip("._") or "scene"
 
 
 def write_figure(fig, path, dpi: int = 150, close: bool = True) -> Path:

@@ -30,7 +30,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import re
 import warnings
 from abc import ABC, abstractmethod
 from dataclasses import replace
@@ -41,7 +40,14 @@ import numpy as np
 from .problem.crack import FACE_OFFSET
 from .problem.material import strain_from_gradient
 
-__all__ = ["Solution"]
+__all__ = ["Solution", "method_record"]
+
+
+def method_record(method) -> dict:
+    """The fields of a method description (EFG, MLPG, FEM) as a dict, user coordinates left
+    out: the ``method`` of records and of ``efgkit run --json``."""
+    return {f.name: getattr(method, f.name) for f in dataclasses.fields(method)
+            if f.name != "coordinates"}
 
 
 class Solution(ABC):
@@ -277,9 +283,7 @@ class Solution(ABC):
 
         m = self.method
         tips = self.sifs(radii=radii, q=q) if self.scene.tips else ()
-        fields = {f.name: getattr(m, f.name) for f in dataclasses.fields(m)
-                  if f.name != "coordinates"}
-        out = {"scene": self.scene.name, "method": {"kind": self.kind, **fields},
+        out = {"scene": self.scene.name, "method": {"kind": self.kind, **method_record(m)},
                **self.sizes(), "timings": dict(self.timings), "solver": dict(self.info),
                "energy": self.strain_energy(),
                "errors": self.errors() if self.scene.exact is not None else None,
@@ -292,10 +296,10 @@ class Solution(ABC):
         ``<name>_stress.png`` (von Mises) and ``<name>.json`` (:meth:`record` with
         ``outputs``) into the directory ``out``; ``name`` defaults to the scene's name made
         file-safe. Returns the record."""
-        from .io import write_figure, write_json
+        from .io import file_name, write_figure, write_json
 
         out = Path(out)
-        name = name or (re.sub(r"[^A-Za-z0-9_.-]+", "_", self.scene.name).strip("._") or "scene")
+        name = name or file_name(self.scene.name)
         rec = self.record(radii)
         paths = [self.write_vtu(out / f"{name}.vtu")]
         for suffix, draw in ((self.discretization_figure, self.plot_discretization),

@@ -34,7 +34,6 @@ import math
 import time
 import warnings
 
-import numpy as np
 from _report import Report
 
 from efgkit import EFG, FEM, solve, solve_fem
@@ -49,28 +48,14 @@ def specimens() -> dict:
     import error_estimate as ee
     import inclined as inc
 
-    from efgkit import Crack, Domain, Field, Scene, Support
-
     out = {}
     for mode, K in (("I", (1.0, 0.0)), ("II", (0.0, 1.0))):
-        W = Field.named("williams", KI=K[0], KII=K[1])
-        sc = Scene(Domain.rectangle(-1, -1, 1, 1), ee.singular_patch()[0].material,
-                   supports=tuple(Support(e, ux=W, uy=W) for e in ("left", "bottom", "right", "top")),
-                   cracks=(Crack([[-1.0, 0.0], [0.0, 0.0]], tips=(False, True), name="c"),))
-        out[f"singular_patch_{mode}"] = (sc, K, 0.0, 2.0, 1.0)
+        sc, K, W = ee.singular_patch(*K)
+        out[f"singular_patch_{mode}"] = (sc, K, 0.0, W, 1.0)
     for name, beta_deg in (("griffith", 0.0), ("inclined", 45.0)):
-        beta = math.radians(beta_deg)
-        c, s = math.cos(beta), math.sin(beta)
-
-        def comp(k, beta=beta):
-            return lambda x: inc.exact_field(np.asarray(x, float), beta)[0][:, k]
-
-        sc = Scene(Domain.rectangle(-2, -2, 2, 2), inc.MAT,
-                   supports=tuple(Support(e, ux=comp(0), uy=comp(1))
-                                  for e in ("left", "bottom", "right", "top")),
-                   cracks=(Crack([[-c, -s], [c, s]], tips=(True, True), name="c"),))
-        out[name] = (sc, (inc.K0 * c * c, inc.K0 * s * c), -inc.SIGMA * math.cos(2 * beta), 4.0,
-                     inc.SIGMA)
+        sc, K, W = ee.inclined(beta_deg)
+        T = -inc.SIGMA * math.cos(2 * math.radians(beta_deg))
+        out[name] = (sc, K, T, W, inc.SIGMA)
     sc, K, W = ee.shear_edge_crack()
     out["shear_edge_crack"] = (sc, K, None, W, 1.0)
     sc, K, W = ee.sent()

@@ -56,19 +56,21 @@ J_CLAMPED = 6.870724
 SETTINGS = ("default", "plain", "pu", "fem", "fem_uniform")
 
 
-def singular_patch():
-    W = Field.named("williams", KI=1.0)
+def singular_patch(KI: float = 1.0, KII: float = 0.0):
+    """(scene, exact (K_I, K_II), width): the Williams field prescribed around an edge crack."""
+    W = Field.named("williams", KI=KI, KII=KII)
     sc = Scene(Domain.rectangle(-1, -1, 1, 1), Elastic(1.0, 0.3, "strain"),
                supports=tuple(Support(e, ux=W, uy=W) for e in ("left", "bottom", "right", "top")),
                cracks=(Crack([[-1.0, 0.0], [0.0, 0.0]], tips=(False, True), name="c"),),
                name="singular_patch")
-    return sc, (1.0, 0.0), 2.0
+    return sc, (KI, KII), 2.0
 
 
-def inclined():
+def inclined(beta_deg: float = 45.0):
+    """(scene, exact (K_I, K_II), width): the Griffith crack at ``beta_deg`` to x in [-2, 2]^2."""
     import inclined as inc
 
-    beta = math.radians(45.0)
+    beta = math.radians(beta_deg)
     c, s = math.cos(beta), math.sin(beta)
 
     def comp(k):

@@ -30,6 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.sparse import csr_array
 
+from ..methods.efg import INTRINSIC
 from .bases import basis as poly_basis
 from .bases import basis_origin_gradient, basis_size
 from .crack_rules import TIP_SNAP
@@ -39,7 +40,6 @@ from .tip_functions import TipGeometry, branch_functions, ramp, tip_coordinates,
 
 __all__ = ["Enrichment", "blend_intrinsic", "extra_columns"]
 
-INTRINSIC = ("radial", "full")  # enrichments that widen the MLS basis (no extra unknowns)
 
 
 @dataclass(frozen=True, eq=False)

@@ -22,6 +22,7 @@ SOLVERS = ("auto", "direct", "amg")
 CRACK_RULES = ("visibility", "diffraction", "transparency", "see_through")
 HOLE_RULES = ("see_through", "visibility", "diffraction")
 ENRICHMENTS = ("auto", "none", "radial", "full", "extrinsic_mls", "pu")
+INTRINSIC = ("radial", "full")  # enrichments that widen the MLS basis (no extra unknowns)
 RAMPS = ("linear", "quintic")
 # Graded zones of the automatic tip refinement: (radius, spacing) in units of the spacing h.
 # Two steps (an abrupt change of spacing makes stresses ripple); docs/verification.md
@@ -299,7 +300,7 @@ class EFG:
         cells holding the tip itself get the fan rule of order ``tip_order``)."""
         h = self.cell_size or self.spacing
         radius = 2.0 * h
-        if self.enrichment in ("radial", "full"):  # the intrinsic enrichments
+        if self.enrichment in INTRINSIC:
             radius = max(radius, self.ramp_outer)
         return tuple(Zone(tuple(t.x), radius, h / 2) for t in scene.tips)
 
@@ -325,7 +326,7 @@ class EFG:
             cell_size=None if self.cell_size is None else self.cell_size * factor,
             rosette=None if self.rosette is None else replace(
                 self.rosette, radius=self.rosette.radius * factor),
-            enrich_radius=self.ramp_outer if self.enrichment in ("radial", "full")
+            enrich_radius=self.ramp_outer if self.enrichment in INTRINSIC
             else self.pu_radius if self.enrichment == "pu" else self.enrich_radius)
 
     @property
