@@ -12,15 +12,18 @@ PACKAGE = Path(__file__).resolve().parents[1] / "efgkit"
 # The most specific prefix decides a module's stage. Keep in step with docs/architecture.md.
 STAGES = [
     ("problem",),                                               # what is solved
-    ("methods", "methods.efg", "scenefile"),                    # method descriptions, files
+    ("methods", "methods.efg", "methods.mlpg", "scenefile",      # method descriptions, files,
+     "gallery"),                                                # canonical specimens
     ("nodes", "search", "quadrature", "fracture"),              # points; fields -> K, J
     ("approx",),                                                # shape functions
     ("system",),                                                # K, f, M; constraints; solvers
-    ("methods.discretize", "methods.boundary", "methods.size"),  # scene + method -> discrete
+    ("methods.discretize", "methods.local", "methods.boundary",  # scene + method -> discrete
+     "methods.size"),
     ("io", "plot"),                                             # files and figures of results
     ("solution", "meshless_solution"),                          # the result contract
-    ("static", "fem"),                                          # drivers and the FE reference
-    ("cli", "__main__", ""),                                    # the top
+    ("static", "explicit", "fem"),                              # drivers and the FE reference
+    ("growth",),                                                # step loops over the drivers
+    ("study", "cli", "__main__", ""),                           # sweeps; the top
 ]
 
 
