@@ -32,16 +32,18 @@ for the pure singular fields, not in general). This form needs the velocity grad
 pointwise cancellation ``u''_i u_i,1 - u'_i u'_i,1 = 0`` of steady motion, and ``T`` has a
 finite flux into the tip, so this is the form for ``V > 0``.
 
-For a stationary crack (``V = 0``) ``u'`` is bounded at the tip and ``int T_,k q`` may
-be integrated by parts, which removes the velocity gradient:
+For a stationary crack (``V = 0``) ``u'`` is bounded at the tip and
+``-int rho u'_i u'_i,k q = -int T_,k q = int T q_,k - int_{C+-} T m_k q`` (by parts; the
+``Gamma_eps`` term vanishes), so every kinetic term cancels and the velocity is not needed:
 
 .. math::
 
-    J'_k = \\int_A \\big[\\sigma_{ij} u_{i,k} - (W - T)\\delta_{kj}\\big] q_{,j}\\,dA
+    J'_k = \\int_A \\big[\\sigma_{ij} u_{i,k} - W\\delta_{kj}\\big] q_{,j}\\,dA
          + \\int_A (\\rho \\ddot u_i - b_i) u_{i,k}\\, q\\,dA
          + \\int_{C_+ \\cup C_-} \\big[W m_k - t_i u_{i,k}\\big] q\\,ds
 
-(used when no velocity gradient is given). With ``u' = u'' = b = 0`` both are the static
+(used when no velocity gradient is given: the static integrand plus the inertia of the
+acceleration). With ``u' = u'' = b = 0`` both are the static
 J of :mod:`efgkit.fracture.integrals` (``k = 1``).
 
 *Interaction integral.* With a static auxiliary field ``u^a`` (Williams, unit ``K_I`` or
@@ -139,13 +141,13 @@ class DynamicIntegrands:
         The static integrands at the same points (:func:`~efgkit.fracture.integrals.domain_integrands`).
     rho : float
     c : ndarray (2, m, 2)
-        ``w [sigma_ij u_i,k - (W +- T) delta_kj]``, ``k = 1, 2`` (coefficients of ``q_,j``),
-        tip frame; ``+`` with the velocity gradient, ``-`` without (module docstring).
+        ``w [sigma_ij u_i,k - (W + T) delta_kj]``, ``k = 1, 2`` (coefficients of ``q_,j``),
+        tip frame; without the velocity gradient ``T`` is left out (module docstring).
     e : ndarray (4, m)
         Coefficients of ``q``: ``w [(rho u''_i - b_i) u_i,k - rho u'_i u'_i,k]`` for
         ``k = 1, 2`` (the last term only with the velocity gradient) and
         ``w (rho u''_i - b_i) u^a_i,1`` for the mode I and mode II auxiliary fields.
-    kinetic : {"W+T", "W-T"}
+    kinetic : {"W+T", "W"}
         Which form (module docstring).
     """
 
@@ -172,7 +174,7 @@ def dynamic_integrands(x, w, stress, grad_u, velocity, acceleration, rho, tip: T
     grad_u : ndarray (n, 2, 2)
         ``grad_u[:, i, j] = du_i/dx_j``, global.
     velocity, acceleration : ndarray (n, 2)
-        ``u'``, ``u''``, global.
+        ``u'``, ``u''``, global (the velocity enters only with ``grad_v``).
     rho : float or None
         Homogeneous density (None: ``material.rho``).
     tip : Tip
@@ -181,7 +183,7 @@ def dynamic_integrands(x, w, stress, grad_u, velocity, acceleration, rho, tip: T
         Radius of the largest domain.
     grad_v : ndarray (n, 2, 2), optional
         Velocity gradient ``du'_i/dx_j``; selects the ``W + T`` form (needed when the
-        tip moves), else the ``W - T`` form (stationary crack).
+        tip moves), else the ``W`` form without kinetic terms (stationary crack).
     body_force : ndarray (n, 2), optional
         ``b`` (global), if the scene has one.
 
@@ -231,11 +233,11 @@ def dynamic_integrands(x, w, stress, grad_u, velocity, acceleration, rho, tip: T
     if body_force is not None:
         f -= rotate_vectors(a["body_force"], ang)
     W = 0.5 * np.einsum("mij,mij->m", s, g)
-    T = 0.5 * rho * np.einsum("mi,mi->m", v, v)
-    sign = 1.0 if grad_v is not None else -1.0
+    if grad_v is not None:
+        W = W + 0.5 * rho * np.einsum("mi,mi->m", v, v)  # W + T
     c = np.einsum("mij,mik->kmj", s, g)  # sigma_ij u_i,k, (2, m, 2)
-    c[0, :, 0] -= W + sign * T
-    c[1, :, 1] -= W + sign * T
+    c[0, :, 0] -= W
+    c[1, :, 1] -= W
     e = np.empty((4, len(sel)))
     e[:2] = np.einsum("mi,mik->km", f, g)
     if grad_v is not None:
@@ -248,7 +250,7 @@ def dynamic_integrands(x, w, stress, grad_u, velocity, acceleration, rho, tip: T
     e[2:] = np.einsum("mi,kmi->km", f, ga[:2, :, :, 0])
     ws = a["w"]
     return DynamicIntegrands(static, rho, c * ws[:, None], e * ws,
-                             "W+T" if grad_v is not None else "W-T")
+                             "W+T" if grad_v is not None else "W")
 
 
 def _face_terms(faces: FaceLoad, face_velocity, it: DynamicIntegrands, q: QFunction) -> np.ndarray:

@@ -118,7 +118,7 @@ def dynamic_tip_result(tip: Tip, x, w, stress, grad_u, velocity, acceleration, r
     grad_u : ndarray (n, 2, 2)
         ``du_i/dx_j``, global.
     velocity, acceleration : ndarray (n, 2)
-        ``u'`` and ``u''`` at ``x``, global.
+        ``u'`` and ``u''`` at ``x``, global (the velocity enters only with ``grad_v``).
     rho : float or None
         Homogeneous density (None: ``material.rho``).
     radii : sequence of float
@@ -180,7 +180,7 @@ def dynamic_tip_result(tip: Tip, x, w, stress, grad_u, velocity, acceleration, r
         raise ValueError(f"speed must be finite and >= 0 (the crack speed V), got {speed!r}")
     if speed > 0 and grad_v is None:
         raise ValueError(f"a moving tip (speed = {speed!r}) needs grad_v, the velocity gradient "
-                         "(n, 2, 2): the W - T form of J' holds only for a stationary crack")
+                         "(n, 2, 2): J' without the kinetic terms holds only for a stationary crack")
     qs = _qfunctions(q, radii)
     terms = dynamic_integrands(x, w, stress, grad_u, velocity, acceleration, rho, tip, material,
                                max(f.r_out for f in qs), grad_v, body_force)

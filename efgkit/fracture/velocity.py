@@ -52,7 +52,8 @@ them against the printed formulas evaluated with 60-digit ``decimal`` arithmetic
 
 .. math::
 
-    K_I^2 = \\frac{\\mu}{A_I}\\left\\{J'_1 \\pm \\sqrt{J_1'^2 - \\frac{A_I A_{II}}{A_{IV}^2} J_2'^2}\\right\\},
+    K_I^2 = \\frac{\\mu}{A_I}\\left\\{J'_1 \\pm
+        \\sqrt{J_1'^2 - \\frac{A_I A_{II}}{A_{IV}^2} J_2'^2}\\right\\},
     \\qquad
     K_{II}^2 = \\frac{\\mu}{A_{II}}\\left\\{J'_1 \\mp \\sqrt{\\ldots}\\right\\},
 
