@@ -89,7 +89,7 @@ def _array(name: str, v, shape: tuple) -> np.ndarray:
     return a
 
 
-def density(rho, material: Elastic) -> float:
+def _density(rho, material: Elastic) -> float:
     """The homogeneous density of the domain form: ``rho`` (a number > 0), or ``material.rho``
     when ``rho`` is None. An array is refused: a varying density adds ``rho_,k`` terms."""
     if rho is None:
@@ -196,7 +196,7 @@ def dynamic_integrands(x, w, stress, grad_u, velocity, acceleration, rho, tip: T
         raise TypeError(f"tip must be an efgkit.problem.crack.Tip, got {type(tip).__name__}")
     if not isinstance(material, Elastic):
         raise TypeError(f"material must be an Elastic, got {type(material).__name__}")
-    rho = density(rho, material)
+    rho = _density(rho, material)
     x = _array("x", x, (-1, 2))
     n = len(x)
     arrays = {"x": x, "w": _array("w", w, (n,)), "stress": _array("stress", stress, (n, 3)),
