@@ -459,3 +459,44 @@ def test_near_tip_stress_estimate_of_a_moving_crack(theta):
         k_from_stress(TIP, r, s, theta, speed=m.c_shear, material=m)
     with pytest.raises(TypeError, match="needs the material"):
         k_from_stress(TIP, r, s, theta, speed=V)
+
+
+def test_pressurised_griffith_crack_under_acceleration():
+    """The pressurised Griffith crack (efgkit.problem.exact.griffith, K_I = p sqrt(pi a)) plus the
+    accelerated smooth field: the face term and the inertia term together give J'_1 = K^2 / E'
+    on every domain."""
+    from efgkit.problem.exact.griffith import griffith_field
+
+    m = Elastic(2.0, 0.3, "strain", rho=1.5)
+    lam, mu = m.lame
+    a, p, acc = 1.0, 0.8, np.array([0.7, -0.4])
+    tip = Tip(np.array([a, 0.0]), 0.0, "c", 1)
+    K = p * np.sqrt(np.pi * a)
+
+    def grad(x):  # tip-frame = global here; the accelerated part as in accelerated_field
+        g = griffith_field(x, a, p, m.mu, m.kappa)[1]
+        g[:, 0, 1] += m.rho * acc[0] / mu * x[:, 1]
+        g[:, 1, 1] += m.rho * acc[1] / (lam + 2 * mu) * x[:, 1]
+        return g
+
+    gf, gw = np.polynomial.legendre.leggauss(12)
+    for R in (0.2, 0.35, 0.5):
+        loc, r, th, w = polar_rule(R)
+        x = tip.x + loc
+        g = grad(x)
+        one = np.ones((len(r), 1))
+        s = np.sqrt(R) * (gf + 1) / 2
+        rf, wf = s**2, gw / 2 * np.sqrt(R) * 2 * s
+        xf = np.concatenate([np.column_stack([a - rf, 0 * rf]), np.column_stack([a - rf, -0.0 * rf])])
+        side = np.repeat([1.0, -1.0], len(rf))
+        faces = FaceLoad(xf, np.tile(wf, 2), np.column_stack([0 * side, side * p]), grad(xf), side)
+        for grad_v in (None, np.zeros_like(g)):
+            it = dynamic_integrands(x, w, stress_of(g, m), g, one * acc, one * acc, None, tip, m, R,
+                                    grad_v)
+            res = contract_dynamic(it, QFunction("wendland_c2", R), faces, one[:len(xf)] * acc)
+            assert res.J1 == pytest.approx(K**2 / m.E_prime, rel=1e-12)
+            assert res.KI == pytest.approx(K, rel=1e-12)
+            assert abs(res.J2) < 1e-13 and abs(res.KII) < 1e-13
+        res = contract_dynamic(it, QFunction("wendland_c2", R), None, None)
+        # measured without the face term: J'_1 48 % to 73 % low (r_out = 0.2 .. 0.5)
+        assert res.J1 / (K**2 / m.E_prime) - 1 < -0.3
