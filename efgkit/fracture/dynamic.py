@@ -55,7 +55,8 @@ moving-crack auxiliary fields: for ``V > 0`` only the ``J'`` estimate is given.
 Inputs are arrays at points (Gauss points, nodes with volumes), as in
 :func:`~efgkit.fracture.integrals.domain_integrals`; one pass over the points of the
 largest disc serves every domain (:func:`dynamic_integrands`, then
-:func:`contract_dynamic` per ``q``), and :func:`dynamic_tip_result` averages several.
+:func:`contract_dynamic` per ``q``), and
+:func:`~efgkit.fracture.dynamic_tip.dynamic_tip_result` averages several.
 """
 
 from __future__ import annotations
