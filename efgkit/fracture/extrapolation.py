@@ -34,6 +34,13 @@ K_II sqrt(r / 2 pi) / mu`` (seed 003 Eq. 60, Anderson Table 2.2), so
 Seed 000's text extraction kept Eqs. 5.1-5.5 readable; the mode II and the
 mixed ``theta = 90 deg`` forms above are rebuilt from the Williams stresses,
 not taken from the seed.
+
+*Dynamic SIF.* The near field of a stationary crack under dynamic load has the
+static angular form, so the same estimates give the dynamic SIF (seed 000 Sect. 5.1).
+For a tip moving at speed ``V > 0`` (``speed``, with the material), the matrix above
+is replaced by the moving-crack one, ``sqrt(2 pi r) (sigma_22, sigma_12)`` of the
+unit-``K`` fields of :mod:`efgkit.problem.exact.moving` on the ray; at ``theta = 0``
+it is still the identity.
 """
 
 from __future__ import annotations
@@ -41,8 +48,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..problem.crack import Tip
+from ..problem.exact.moving import moving_crack_fields
 from ..problem.frames import rotate_vectors, rotate_voigt
-from ..problem.material import Elastic
+from ..problem.material import Elastic, strain_from_gradient
 
 __all__ = ["cod_sif", "k_from_cod", "k_from_stress", "near_tip_sif", "ray_points"]
 
@@ -88,8 +96,25 @@ def _sample(values, x: np.ndarray, name: str, width: int) -> np.ndarray:
     return v
 
 
-def k_from_stress(tip: Tip, r, stress, theta: float = 0.0,
-                  assume_mode_I: bool = False) -> tuple[np.ndarray, np.ndarray]:
+def _ray_matrix(theta: float, speed: float, material) -> np.ndarray:
+    """``sqrt(2 pi r) (sigma_22, sigma_12)`` per unit ``(K_I, K_II)`` on the ray ``theta``, (2, 2)."""
+    c, si, c3, s3 = np.cos(theta / 2), np.sin(theta / 2), np.cos(1.5 * theta), np.sin(1.5 * theta)
+    if speed == 0:
+        return np.array([[c * (1 + si * s3), si * c * c3], [c * si * c3, c * (1 - si * s3)]])
+    if not isinstance(material, Elastic):
+        raise TypeError(f"a crack speed needs the material (an Elastic), got {type(material).__name__}")
+    if not (np.isfinite(speed) and 0 < speed < material.c_rayleigh):
+        raise ValueError(f"speed must lie in [0, c_R) with c_R = {material.c_rayleigh!r} the Rayleigh "
+                         f"speed, got {speed!r}")
+    x = np.array([[np.cos(theta), np.sin(theta)]])
+    g = np.stack([moving_crack_fields(x, k1, k2, speed, material.mu, material.c_dilatational,
+                                      material.c_shear)[1][0] for k1, k2 in ((1.0, 0.0), (0.0, 1.0))])
+    s = strain_from_gradient(g) @ material.D.T  # rows: unit K_I, unit K_II at r = 1
+    return np.sqrt(2 * np.pi) * s[:, 1:].T
+
+
+def k_from_stress(tip: Tip, r, stress, theta: float = 0.0, assume_mode_I: bool = False,
+                  speed: float = 0.0, material: Elastic | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Apparent ``K_I (n,)``, ``K_II (n,)`` from stresses on the ray ``theta``.
 
     Parameters
@@ -106,6 +131,10 @@ def k_from_stress(tip: Tip, r, stress, theta: float = 0.0,
     assume_mode_I : bool
         Use ``sigma_22`` alone (seed 000 Eqs. 5.2-5.3, generalised to any
         ray) and return ``K_II = 0``.
+    speed : float
+        Crack speed ``V``, ``0 <= V < c_R`` (module docstring); ``V > 0`` needs ``material``
+        with a density.
+    material : Elastic, optional
 
     Returns
     -------
@@ -125,16 +154,16 @@ def k_from_stress(tip: Tip, r, stress, theta: float = 0.0,
         raise ValueError(f"theta must lie in (-pi, pi) (off the crack faces), got {theta!r}")
     s = rotate_voigt(_sample(stress, ray_points(tip, r, theta), "stress", 3), -tip.angle)
     root = np.sqrt(2 * np.pi * r)
-    c, si, c3, s3 = np.cos(theta / 2), np.sin(theta / 2), np.cos(1.5 * theta), np.sin(1.5 * theta)
+    A = _ray_matrix(theta, speed, material)
     if assume_mode_I:
-        return root * s[:, 1] / (c * (1 + si * s3)), np.zeros(len(r))
-    A = np.array([[c * (1 + si * s3), si * c * c3], [c * si * c3, c * (1 - si * s3)]])
+        return root * s[:, 1] / A[0, 0], np.zeros(len(r))
     K = np.linalg.solve(A, root * np.vstack([s[:, 1], s[:, 2]]))  # rows: sigma_22, sigma_12
     return K[0], K[1]
 
 
 def near_tip_sif(tip: Tip, r, stress, theta: float = 0.0, n_average: int = 2,
-                 assume_mode_I: bool = False) -> tuple[float, float]:
+                 assume_mode_I: bool = False, speed: float = 0.0,
+                 material: Elastic | None = None) -> tuple[float, float]:
     """``(K_I, K_II)``: mean of :func:`k_from_stress` at the ``n_average`` points nearest the tip.
 
     Seed 000 (Sect. 5.1, Fig. 8) averages the first two particles from the
@@ -155,7 +184,7 @@ def near_tip_sif(tip: Tip, r, stress, theta: float = 0.0, n_average: int = 2,
             1 <= n_average <= len(r)):
         raise ValueError(f"n_average must be an integer in 1..{len(r)} (the points given), got "
                          f"{n_average!r}")
-    KI, KII = k_from_stress(tip, r, stress, theta, assume_mode_I)
+    KI, KII = k_from_stress(tip, r, stress, theta, assume_mode_I, speed, material)
     near = np.argsort(r, kind="stable")[:n_average]
     return float(np.mean(KI[near])), float(np.mean(KII[near]))
 

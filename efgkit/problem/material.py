@@ -141,15 +141,27 @@ class Elastic:
 
     @property
     def c_rayleigh(self) -> float:
-        """Rayleigh wave speed cR, the root in (0, c2) of seed 000 Eq. (5.9).
+        """Rayleigh wave speed cR = c2 sqrt(x) in the 2D idealisation (seed 000 Eqs. 5.9-5.10).
 
-        (2 - x)^2 - 4 sqrt(1 - x) sqrt(1 - x c2^2/c1^2) = 0 with x = (cR/c2)^2.
+        ``x = (cR / c2)^2`` is the root in (0, 1) of the Rayleigh equation
+        ``(2 - x)^2 = 4 sqrt(1 - x) sqrt(1 - g x)``, ``g = (c2 / c1)^2``, squared out and
+        divided by its spurious root ``x = 0``: ``x^3 - 8 x^2 + (24 - 16 g) x - 16 (1 - g) = 0``.
+        The cubic is -16 (1 - g) < 0 at 0, 1 at 1 and increasing on [0, 1] (its derivative
+        vanishes only beyond 4/3 for g <= 1/2), so the bracketed root is unique; it is found to
+        rounding. Seed 000's cubic in ``eta = beta_1 / beta_2`` (Eq. 5.9, its largest root) gives
+        the same speed through Eq. 5.10 (``tests/test_dynamic_sif.py``). Plane stress uses the
+        plane-stress c1.
+
+        Examples
+        --------
+        >>> round(Elastic(210e9, 0.3, rho=7800.0).c_rayleigh)   # seed 002 Sect. 4.3 at 210 GPa
+        2984
         """
         from scipy.optimize import brentq
 
-        r = (self.c_shear / self.c_dilatational) ** 2
+        g = (self.c_shear / self.c_dilatational) ** 2
 
         def f(x):
-            return (2 - x) ** 2 - 4 * math.sqrt(1 - x) * math.sqrt(1 - x * r)
+            return ((x - 8.0) * x + 24.0 - 16.0 * g) * x - 16.0 * (1.0 - g)
 
-        return self.c_shear * math.sqrt(brentq(f, 1e-6, 1 - 1e-12))
+        return self.c_shear * math.sqrt(brentq(f, 0.0, 1.0, xtol=1e-17, rtol=1e-15))
