@@ -174,6 +174,15 @@ def test_dependent_rows_are_refused():
         collocation(K, f, csr_array(r), np.zeros(4), [0, 1, 3, 5], x)
 
 
+def test_support_without_nodes_is_refused():
+    # Supports on the left edge and on a stretch of the bottom between two nodes (h = 0.25).
+    sc = Scene(Domain.rectangle(0, 0, 1, 1), MAT, supports=(
+        Support("left", ux=0.0), Support(lambda x: (np.abs(x[:, 0] - 0.6) < 0.05) & (x[:, 1] < 1e-9),
+                                         uy=0.0)))
+    with pytest.raises(ValueError, match="support <function .*> holds no node: bc='collocation'"):
+        solve(sc, EFG(spacing=0.25, bc="collocation"))
+
+
 def test_zero_row_is_refused():
     K, f, x = small()
     rows = csr_array(np.vstack([np.eye(8)[[0, 1, 3]], np.zeros(8)]))

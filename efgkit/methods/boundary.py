@@ -192,7 +192,20 @@ def collocation_rows(disc: Discretization):
         ``ubar_a(x_I)``.
     dofs : (n_c,) int
         ``2 I + a``: the equations the rows replace (:func:`efgkit.system.collocation.collocation`).
+
+    Raises
+    ------
+    ValueError
+        A support (a callable edge) that selects no node.
     """
+    scene = disc.scene
+    for sup in scene.supports:
+        if not essential_nodes(scene.with_supports((sup,)), disc.nodes, disc.method.spacing).any():
+            raise ValueError(
+                f"support {sup.edge!r} holds no node: bc='collocation' imposes the prescribed "
+                "values at the nodes on supported edges, and its boundary term along the edge "
+                "would be left without them. Select a stretch of boundary holding nodes, or use "
+                "bc='lagrange' or 'variational', which impose supports along boundary lines.")
     faces = disc.nodes.face_positions(disc.approx.lines, 1e-3)
     dofs, values = eliminated_dofs(disc, faces)
     x = faces[dofs // 2]
