@@ -115,6 +115,8 @@ def test_unsymmetric_system_goes_to_the_direct_solver():
     assert info["solver"] == "direct" and info["residual"] < 1e-12
     with pytest.raises(ValueError, match="solver='amg' needs an SPD system"):
         linear_solve(system, "amg")
+    with pytest.raises(ValueError, match=re.escape("solver='amg' needs an SPD system or a Lagrange")):
+        solve(sc, EFG(spacing=0.25, bc="collocation", solver="amg"))
 
 
 def test_collocation_replaces_exactly_the_given_equations():

@@ -30,7 +30,7 @@ __all__ = ["SingularRowsError", "collocation", "SINGULAR_PIVOT"]
 # to its largest (1 for unit rows): below it the rows are taken as linearly dependent. A pivot is of
 # the order of a squared singular value of R, so 1e-12 refuses rows with a condition number above
 # ~1e6. Measured (EFG, linear basis, unit square with all edges prescribed, h = 0.1 and 0.05, regular
-# and perturbed by 0.3 h, quartic, Gaussian and cubic weights): smallest pivot 0.12-1.0 at d_max 2,
+# and perturbed by 0.3 h, quartic, Gaussian and cubic weights): smallest pivot 0.11-1.0 at d_max 2,
 # 3e-3-0.79 at d_max 3; a node listed twice gives 1e-16 or an exactly zero pivot.
 SINGULAR_PIVOT = 1e-12
 
