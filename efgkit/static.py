@@ -66,6 +66,8 @@ def solve(scene: Scene, method: EFG, disc: Discretization | None = None) -> Mesh
     ------
     RigidBodyModeError
         When the supports leave a rigid-body motion free.
+    SingularRowsError
+        bc="collocation" with linearly dependent constraint rows (two nodes at one point).
     SolverError
         When the linear solve fails its residual check, or CG's answer (solver="amg") its
         energy-error bound (:func:`efgkit.system.linalg.solve`).

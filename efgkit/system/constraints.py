@@ -16,6 +16,9 @@ and values.
 * elimination (row cross-out, seed 002 after Eq. 19): with Kronecker-delta
   shape functions at the constrained nodes their coefficients are the
   prescribed values.
+
+``boundary_traction_term`` is the Gamma_u term ``H = G^T W T`` on its own, for the
+modified collocation method of :mod:`efgkit.system.collocation`.
 """
 
 from __future__ import annotations
