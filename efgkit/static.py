@@ -13,12 +13,13 @@ import numpy as np
 from scipy.sparse import csr_array
 
 from .meshless_solution import MeshlessSolution
-from .methods.boundary import eliminated_dofs, essential_conditions, loads
+from .methods.boundary import collocation_rows, eliminated_dofs, essential_conditions, gamma_u_term, loads
 from .methods.discretize import Discretization, discretize
 from .methods.efg import EFG
 from .problem.scene import Scene
 from .system.assemble import stiffness
 from .system.auxiliary import AuxiliarySpace
+from .system.collocation import collocation
 from .system.constraints import eliminate, lagrange, modified_variational, penalty, rigid_body_modes
 from .system.linalg import solve as linear_solve
 
@@ -65,6 +66,8 @@ def solve(scene: Scene, method: EFG, disc: Discretization | None = None) -> Mesh
     ------
     RigidBodyModeError
         When the supports leave a rigid-body motion free.
+    SingularRowsError
+        bc="collocation" with linearly dependent constraint rows (two nodes at one point).
     SolverError
         When the linear solve fails its residual check, or CG's answer (solver="amg") its
         energy-error bound (:func:`efgkit.system.linalg.solve`).
@@ -107,6 +110,9 @@ def solve(scene: Scene, method: EFG, disc: Discretization | None = None) -> Mesh
     if m.bc == "modified_mls":
         dofs, vals = eliminated_dofs(disc)
         system = eliminate(K, f, dofs, vals, disc.nodes.x)
+    elif m.bc == "collocation":  # Zhu and Atluri 1998: unsymmetric, solved by SuperLU
+        rows, vals, dofs = collocation_rows(disc)
+        system = collocation(K - gamma_u_term(disc), f, rows, vals, dofs, disc.nodes.x)
     else:
         bc = essential_conditions(disc, derivatives=m.bc == "variational")
         if m.bc == "penalty":

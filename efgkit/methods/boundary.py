@@ -5,7 +5,9 @@ points) and crack-face pressure (on both faces) against the trial functions;
 ``essential_conditions`` samples the prescribed displacements on Gauss rules along the
 supported edges, with the Lagrange-multiplier hats (the input of the constraint
 methods of :mod:`efgkit.system.constraints`); ``eliminated_dofs`` gives the
-coefficients that the modified MLS of seed 002 fixes by row cross-out.
+coefficients that the modified MLS of seed 002 fixes by row cross-out;
+``collocation_rows`` and ``gamma_u_term`` are the data of the modified collocation
+method (Zhu and Atluri 1998, :mod:`efgkit.system.collocation`).
 """
 
 from __future__ import annotations
@@ -13,13 +15,14 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from scipy.sparse import csr_array, vstack
 
 from ..problem.crack import FACE_OFFSET
 from ..problem.scene import evaluate_component, evaluate_vector
 from ..quadrature.boundary import boundary_points, break_parameters, edge_rule, merge_knots
 from ..quadrature.rules import gauss_legendre
 from ..system.assemble import load_vector
-from ..system.constraints import Dirichlet
+from ..system.constraints import Dirichlet, boundary_traction_term
 from .discretize import (
     Discretization,
     boundary_segments_for,
@@ -28,7 +31,8 @@ from .discretize import (
     support_edges,
 )
 
-__all__ = ["crack_face_loads", "eliminated_dofs", "essential_conditions", "loads"]
+__all__ = ["collocation_rows", "crack_face_loads", "eliminated_dofs", "essential_conditions",
+           "gamma_u_term", "loads"]
 
 
 def loads(disc: Discretization) -> np.ndarray:
@@ -149,9 +153,14 @@ def essential_conditions(disc: Discretization, derivatives: bool) -> Dirichlet:
                      cat[6], cat[7])
 
 
-def eliminated_dofs(disc: Discretization):
-    """Coefficient indices and values of the modified-MLS essential nodes (row cross-out)."""
+def eliminated_dofs(disc: Discretization, x=None):
+    """Coefficient indices and values of the modified-MLS essential nodes (row cross-out).
+
+    ``x (n_nodes, 2)``: where to evaluate the prescribed values (default the node positions;
+    :func:`collocation_rows` passes the split nodes' face positions, so that the two copies
+    of a node at a crack mouth get the values of their own face)."""
     scene = disc.scene
+    x = disc.nodes.x if x is None else x
     dofs, vals = [], []
     for sup in scene.supports:
         on = essential_nodes(scene.with_supports((sup,)), disc.nodes, disc.method.spacing)
@@ -159,9 +168,57 @@ def eliminated_dofs(disc: Discretization):
         for c, v in enumerate((sup.ux, sup.uy)):
             if v is not None and len(idx):
                 dofs.append(2 * idx + c)
-                vals.append(evaluate_component(v, disc.nodes.x[idx], c, scene.material))
+                vals.append(evaluate_component(v, x[idx], c, scene.material))
     if not dofs:
         return np.zeros(0, int), np.zeros(0)
     dofs, vals = np.concatenate(dofs), np.concatenate(vals)
     dofs, first = np.unique(dofs, return_index=True)  # a node on two supports: first wins
     return dofs, vals[first]
+
+
+def collocation_rows(disc: Discretization):
+    """Constraint rows of the modified collocation method (Zhu and Atluri 1998).
+
+    For every prescribed component a of every node I on a supported edge (the nodes and
+    values of :func:`eliminated_dofs`), the row ``u^h_a(x_I) = sum_J phi_J(x_I) c_Ja``
+    of the plain MLS functions. The two copies of a node split by a crack mouth are
+    evaluated (shape functions and prescribed values) on their own face, 1e-3 of their
+    support radius off the crack (``NodeCloud.face_positions``).
+
+    Returns
+    -------
+    rows : csr_array (n_c, n_dofs)
+    values : (n_c,)
+        ``ubar_a(x_I)``.
+    dofs : (n_c,) int
+        ``2 I + a``: the equations the rows replace (:func:`efgkit.system.collocation.collocation`).
+
+    Raises
+    ------
+    ValueError
+        A support (a callable edge) that selects no node.
+    """
+    scene = disc.scene
+    for sup in scene.supports:
+        if not essential_nodes(scene.with_supports((sup,)), disc.nodes, disc.method.spacing).any():
+            raise ValueError(
+                f"support {sup.edge!r} holds no node: bc='collocation' imposes the prescribed "
+                "values at the nodes on supported edges, and its boundary term along the edge "
+                "would be left without them. Select a stretch of boundary holding nodes, or use "
+                "bc='lagrange' or 'variational', which impose supports along boundary lines.")
+    faces = disc.nodes.face_positions(disc.approx.lines, 1e-3)
+    dofs, values = eliminated_dofs(disc, faces)
+    x = faces[dofs // 2]
+    ux, uy = disc.shape_at(x, derivatives=False).u_operators()
+    n = len(dofs)
+    rows = csr_array(vstack([ux, uy], format="csr")[(dofs % 2) * n + np.arange(n)])
+    return rows, values, dofs
+
+
+def gamma_u_term(disc: Discretization) -> csr_array:
+    """``H = int_{Gamma_u} phi_I t(phi_J) dGamma`` (n_dofs, n_dofs) on the prescribed components,
+    by the boundary rule of :func:`essential_conditions` with ``t = N^T D B``
+    (:func:`efgkit.system.constraints.boundary_traction_term`). The modified collocation method
+    solves with ``K - H``: MLS test functions do not vanish on Gamma_u."""
+    bc = essential_conditions(disc, derivatives=True)
+    return boundary_traction_term(bc, disc.scene.material.D)

@@ -16,7 +16,7 @@ __all__ = ["EFG", "Zone", "Rosette", "WEIGHTS", "BASES", "BC_METHODS", "QUADRATU
 
 WEIGHTS = ("quartic", "gaussian", "cubic")
 BASES = ("linear", "quadratic")
-BC_METHODS = ("auto", "penalty", "lagrange", "variational", "modified_mls")
+BC_METHODS = ("auto", "penalty", "lagrange", "variational", "modified_mls", "collocation")
 QUADRATURES = ("cells", "triangles")
 SOLVERS = ("auto", "direct", "amg")
 CRACK_RULES = ("visibility", "diffraction", "transparency", "see_through")
@@ -124,11 +124,14 @@ class EFG:
         The same in refinement zones.
     cell_size : float, optional
         Background cell size (default: ``spacing``).
-    bc : {"auto", "penalty", "lagrange", "variational", "modified_mls"}
+    bc : {"auto", "penalty", "lagrange", "variational", "modified_mls", "collocation"}
         Essential boundary conditions ("auto": Lagrange with crack tips, penalty
         otherwise, :meth:`for_scene`): penalty (seed 003 Eq. 28), Lagrange
         multipliers (Eq. 26), modified variational principle (Eq. 27,
-        ``"variational"``, Nitsche-stabilised) or the modified MLS of seed 002 (Eqs. 6-19).
+        ``"variational"``, Nitsche-stabilised), the modified MLS of seed 002 (Eqs. 6-19)
+        or the modified collocation method of Zhu and Atluri (1998, Comput. Mech. 21:211-222:
+        the equations of the prescribed components of the boundary nodes replaced by
+        ``u^h(x_I) = ubar(x_I)``; plain MLS, unsymmetric system, SuperLU only).
     penalty : float, optional
         bc="penalty": beta in units of E / h (default 1e3). The consistency
         error falls like E / (beta h) but large beta over-constrains the

@@ -3,11 +3,13 @@
 ``assemble`` (stiffness, load vector and lumped mass from shape operators at weighted
 points), ``constraints`` (essential conditions as penalty, Lagrange multipliers, the
 modified variational principle or elimination; the linear system they give),
+``collocation`` (equations replaced by constraint rows: the modified collocation method),
 ``linalg`` (direct and preconditioned iterative solves, checked) and ``auxiliary``
 (the auxiliary-space preconditioner on a P1 stiffness of the nodes).
 """
 
+from .collocation import SingularRowsError
 from .constraints import LinearSystem, RigidBodyModeError
 from .linalg import SolverError
 
-__all__ = ["LinearSystem", "RigidBodyModeError", "SolverError"]
+__all__ = ["LinearSystem", "RigidBodyModeError", "SingularRowsError", "SolverError"]

@@ -16,6 +16,9 @@ and values.
 * elimination (row cross-out, seed 002 after Eq. 19): with Kronecker-delta
   shape functions at the constrained nodes their coefficients are the
   prescribed values.
+
+``boundary_traction_term`` is the Gamma_u term ``H = G^T W T`` on its own, for the
+modified collocation method of :mod:`efgkit.system.collocation`.
 """
 
 from __future__ import annotations
@@ -28,7 +31,7 @@ from scipy.sparse import bmat, coo_array, csr_array, diags_array, vstack
 from ..approx.shape import Shape
 
 __all__ = ["Dirichlet", "LinearSystem", "RigidBodyModeError", "penalty", "lagrange", "rigid_body_modes",
-           "modified_variational", "eliminate", "check_rigid_modes"]
+           "modified_variational", "eliminate", "check_rigid_modes", "boundary_traction_term"]
 
 
 class RigidBodyModeError(ValueError):
@@ -202,6 +205,21 @@ def _traction_operator(bc: Dirichlet, D: np.ndarray) -> csr_array:
     tx = csr_array(nx @ sig[0] + ny @ sig[2])
     ty = csr_array(nx @ sig[2] + ny @ sig[1])
     return _fixed_rows((tx, ty), bc.fixed)
+
+
+def boundary_traction_term(bc: Dirichlet, D: np.ndarray) -> csr_array:
+    """The Gamma_u boundary term of the Galerkin weak form, ``H = G^T W T`` (n_dofs, n_dofs).
+
+    ``H_(Ia),(Jb) = sum_q w_q phi_I(x_q) t_a(phi_J e_b)(x_q)`` over the boundary points
+    of the prescribed components a, with ``t = N^T D B`` the traction: the term ``-int_{Gamma_u}
+    v . t(u) dGamma`` that test functions not vanishing on Gamma_u leave in the weak form.
+    ``K - H`` is the stiffness of the modified collocation method (Zhu and Atluri 1998,
+    :mod:`efgkit.system.collocation`); ``K - H - H^T`` that of Eq. (27) below. Needs the
+    shape derivatives at the boundary points (``essential_conditions(disc, derivatives=True)``).
+    """
+    G = _component_operator(bc.shape, bc.fixed)
+    w = np.broadcast_to(bc.w[:, None], bc.fixed.shape)[bc.fixed]
+    return csr_array(G.T @ diags_array(w) @ _traction_operator(bc, D))
 
 
 def modified_variational(K, f, bc: Dirichlet, D: np.ndarray, beta: float,
