@@ -13,4 +13,5 @@ from .result import DynamicSolution
 from .system import Dynamics, dynamics, fit_coefficients, stable_step
 
 __all__ = ["BLOWUP_FACTOR", "DynamicSolution", "Dynamics", "InstabilityError", "State", "dynamics",
-           "fit_coefficients", "initial_state", "integrate", "load_stepping", "quasi_static_dsif", "stable_step"]
+           "fit_coefficients", "initial_state", "integrate", "load_stepping", "quasi_static_dsif",
+           "stable_step"]

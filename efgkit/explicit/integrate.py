@@ -240,7 +240,7 @@ def integrate(scene: Scene, method: EFG, stepping: Stepping | None = None, *,
         rows = np.flatnonzero(np.diff(P.minv_GT.indptr))
         minv_rows = P.minv_GT[rows]
     f_const = None if dyn.time_dependent else dyn.force(0.0)
-    rec = Recorder(dyn, stepping, dt, dsif, out, n_out=n_total // every + 2)
+    rec = Recorder(dyn, stepping, dt, dsif, out, n_out=-(-n_total // every) + 1)
     show = _progress(sys.stderr.isatty() if progress is None else progress, n_total)
     t_loop = time.perf_counter()
     for n in range(n0, n0 + n_total):

@@ -139,9 +139,8 @@ class DynamicSolution:
         (the final state, for restarts), ``<name>_history.png`` and the stress snapshots
         kept by ``Stepping.snapshots`` as ``<name>_stress_<k>.png`` (``component`` of
         :func:`efgkit.plot.plot_stress`). Returns the record."""
-        from .system import solution_at
-
         from ..io import file_name, write_figure, write_json
+        from .system import solution_at
 
         out = Path(out)
         out.mkdir(parents=True, exist_ok=True)
