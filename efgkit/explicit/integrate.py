@@ -170,7 +170,8 @@ def _progress(enabled: bool, total: int):
 
 def integrate(scene: Scene, method: EFG, stepping: Stepping | None = None, *,
               dyn: Dynamics | None = None, state: State | None = None, steps: int | None = None,
-              dsif=quasi_static_dsif, out=None, progress: bool | None = None) -> DynamicSolution:
+              dsif=quasi_static_dsif, out=None, progress: bool | None = None,
+              critical: tuple[float, float] | None = None) -> DynamicSolution:
     """Integrate a dynamic scene in time by central differences (module docstring).
 
     Parameters
@@ -196,6 +197,8 @@ def integrate(scene: Scene, method: EFG, stepping: Stepping | None = None, *,
         Directory for the VTU time series (``stepping.vtu``).
     progress : bool, optional
         Progress bar on stderr (default: only when stderr is a terminal).
+    critical : (dt_critical, lambda_max), optional
+        The result of :func:`~efgkit.explicit.system.stable_step` for ``dyn``, to reuse.
 
     Returns
     -------
@@ -214,7 +217,7 @@ def integrate(scene: Scene, method: EFG, stepping: Stepping | None = None, *,
     t_all = time.perf_counter()
     dyn = dynamics(scene, method) if dyn is None else dyn
     t0 = time.perf_counter()
-    dt_crit, lam = stable_step(dyn)
+    dt_crit, lam = stable_step(dyn) if critical is None else critical
     t_stable = time.perf_counter() - t0
     dt = stepping.safety * dt_crit if stepping.dt is None else stepping.dt
     if state is not None:
