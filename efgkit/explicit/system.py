@@ -27,7 +27,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import scipy.linalg
 from scipy.sparse import csc_array, csr_array, diags_array
-from scipy.sparse.linalg import LinearOperator, eigsh, splu
+from scipy.sparse.linalg import LinearOperator, eigs, eigsh, splu
 
 from ..meshless_solution import MeshlessSolution
 from ..methods.boundary import eliminated_dofs, essential_conditions, loads
@@ -197,11 +197,12 @@ def dynamics(scene: Scene, method: EFG, disc: Discretization | None = None) -> D
     timings = {}
     t0 = time.perf_counter()
     mat = scene.material
-    K = stiffness(disc.shape, disc.points.w, mat.D)
+    test = getattr(disc, "test", None)  # Petrov-Galerkin test functions (MLPG), else None
+    K = stiffness(disc.shape, disc.points.w, mat.D, test=test)
     timings["stiffness"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     m = row_sum_mass(disc.shape, disc.points.w, mat.rho, area=scene.domain.area,
-                     node_x=disc.nodes.x)
+                     node_x=disc.nodes.x, test=test)
     timings["mass"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     parts = _load_scenes(scene)
@@ -246,8 +247,9 @@ def stable_step(dyn: Dynamics, tol: float = 1e-8, dense_below: int = 400) -> tup
     ``G M^-1/2 y = 0`` (Lagrange constraints; built with the factors of ``G M^-1 G^T``)
     or onto the free coefficients (modified MLS). Lanczos (``eigsh``, largest algebraic,
     relative accuracy ``tol``) or, for fewer than ``dense_below`` unknowns, a dense
-    eigensolver. For meshless shape functions ``h / c`` is not a bound (the issue): the
-    matrices decide.
+    eigensolver; for an unsymmetric K (Petrov-Galerkin MLPG) the largest modulus by Arnoldi
+    (``eigs``), where the energy identity of the scheme no longer holds. For meshless shape
+    functions ``h / c`` is not a bound: the matrices decide.
 
     Returns
     -------
@@ -267,17 +269,22 @@ def stable_step(dyn: Dynamics, tol: float = 1e-8, dense_below: int = 400) -> tup
         y = proj(np.asarray(y).ravel())
         return proj(s * (K @ (s * y)))
 
+    scale = abs(K).max()
+    symmetric = abs(K - K.T).max() <= 1e-10 * scale  # Petrov-Galerkin (MLPG) K is not
     if n < dense_below:
         A = s[:, None] * K.toarray() * s[None, :]
         if P is not None:
             Gt = P.G.toarray() * s[None, :]
             Q = np.eye(n) - Gt.T @ np.linalg.solve(Gt @ Gt.T, Gt)
             A = Q @ A @ Q
-        lam = float(scipy.linalg.eigvalsh(0.5 * (A + A.T), subset_by_index=[n - 1, n - 1])[0])
+        lam = float(scipy.linalg.eigvalsh(0.5 * (A + A.T), subset_by_index=[n - 1, n - 1])[0]) \
+            if symmetric else float(np.abs(np.linalg.eigvals(A)).max())
     else:
         op = LinearOperator((n, n), matvec=apply, dtype=float)
         v0 = np.random.default_rng(0).standard_normal(n)
-        lam = float(eigsh(op, k=1, which="LA", tol=tol, v0=v0, return_eigenvectors=False)[0])
+        lam = float(eigsh(op, k=1, which="LA", tol=tol, v0=v0, return_eigenvectors=False)[0]) \
+            if symmetric else float(np.abs(eigs(op, k=1, which="LM", tol=tol, v0=v0,
+                                                return_eigenvectors=False)[0]))
     if not (np.isfinite(lam) and lam > 0):
         raise ValueError(f"the largest eigenvalue of M^-1 K is {lam!r}, not positive: the "
                          "stiffness or mass is broken (check the material and the quadrature)")
