@@ -235,8 +235,17 @@ def dynamics(scene: Scene, method: EFG, disc: Discretization | None = None) -> D
                 n = disc.n_dofs
                 projection = Projection.build(csr_array(lin.A[n:, :n]), lin.b[n:], minv)
     timings["constraints"] = time.perf_counter() - t0
-    return Dynamics(disc, csr_array(K), m, minv, F, histories, f_bc, projection, fixed,
+    return Dynamics(disc, _int32(csr_array(K)), m, minv, F, histories, f_bc, projection, fixed,
                     fixed_values, method.bc, timings)
+
+
+def _int32(K: csr_array) -> csr_array:
+    """K with 32-bit column indices when they fit: ``K @ u`` reads a third less memory
+    (the product bounds the step)."""
+    if K.nnz >= 2**31 - 1 or K.indices.dtype == np.int32:
+        return K
+    K = csr_array((K.data, K.indices.astype(np.int32), K.indptr.astype(np.int32)), shape=K.shape)
+    return K
 
 
 def stable_step(dyn: Dynamics, tol: float = 1e-8, dense_below: int = 400) -> tuple[float, float]:
