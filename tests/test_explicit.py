@@ -290,6 +290,18 @@ def test_cli_runs_a_dynamic_scene(tmp_path, capsys):
     assert (tmp_path / "out" / "vtu" / "bar.pvd").is_file()
     assert (tmp_path / "out" / "bar_state.npz").is_file()
     assert (tmp_path / "out" / "bar_stress_000.png").is_file()
+    import meshio  # the series is readable: every file the collection lists, with its fields
+
+    pvd = (tmp_path / "out" / "vtu" / "bar.pvd").read_text()
+    files = [line.split('file="')[1].split('"')[0] for line in pvd.splitlines() if "file=" in line]
+    assert len(files) == len(rec["history"]["t"])
+    mesh = meshio.read(tmp_path / "out" / "vtu" / files[-1])
+    assert {"displacement", "velocity", "stress", "von_mises"} <= set(mesh.point_data)
+    assert capsys.readouterr().err == ""  # no progress bar when stderr is not a terminal
+    path.write_text(BAR_TOML.replace("duration = 0.1", "duration = 10.0").replace(
+        "output_interval", "dt = 0.05\nforce = true\noutput_interval"))
+    assert main(["run", str(path), "--out", str(tmp_path / "out")]) == 1
+    assert "the time integration failed: the integration blew up at step" in capsys.readouterr().err
     path.write_text(BAR_TOML.replace("output_interval", "dt = 1.0\noutput_interval"))
     assert main(["run", str(path), "--out", str(tmp_path / "out")]) == 2
     assert "exceeds the critical step" in capsys.readouterr().err

@@ -150,9 +150,11 @@ class DynamicSolution:
         self.state.save(state)
         paths = [state, write_figure(self.plot_history(), out / f"{name}_history.png")]
         for k, (t, u) in enumerate(self.history.get("snapshots", [])):
-            fig = solution_at(self.dyn, u, t).plot_stress(component)
-            fig.axes[0].set_title(f"{component} stress at t = {t:.4g}")
-            paths.append(write_figure(fig, out / f"{name}_stress_{k:03d}.png"))
+            # a uniform field (before the waves arrive) has an empty colour range
+            with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+                fig = solution_at(self.dyn, u, t).plot_stress(component)
+                fig.axes[0].set_title(f"{component} stress at t = {t:.4g}")
+                paths.append(write_figure(fig, out / f"{name}_stress_{k:03d}.png"))
         if self.history["vtu"] is not None:
             paths.append(Path(self.history["vtu"]))
         rec["outputs"] = [str(p) for p in paths + [out / f"{name}.json"]]
