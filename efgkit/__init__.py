@@ -2,12 +2,14 @@
 
 from importlib.metadata import PackageNotFoundError, version
 
+from .explicit import DynamicSolution, integrate
 from .fem import FEM, FEMSolution, solve_fem
 from .fracture.sif import TipResult
 from .meshless_solution import MeshlessSolution
 from .methods import EFG, Rosette, Zone
 from .methods.discretize import discretize
 from .problem import Crack, Domain, Elastic, Field, Loop, Scene, Support, Traction
+from .problem.history import Heaviside, ImpactPulse, Ramp, Stepping, Tabulated
 from .scenefile import load_scene, load_study
 from .solution import Solution
 from .static import solve
@@ -18,7 +20,8 @@ except PackageNotFoundError:  # pragma: no cover - running from a source tree
     __version__ = "0.0.0"
 
 __all__ = [
-    "Crack", "Domain", "EFG", "Elastic", "FEM", "FEMSolution", "Field", "Loop", "MeshlessSolution",
-    "Rosette", "Scene", "Solution", "Support", "TipResult", "Traction", "Zone", "__version__",
-    "discretize", "load_scene", "load_study", "solve", "solve_fem",
+    "Crack", "Domain", "DynamicSolution", "EFG", "Elastic", "FEM", "FEMSolution", "Field", "Heaviside",
+    "ImpactPulse", "Loop", "MeshlessSolution", "Ramp", "Rosette", "Scene", "Solution", "Stepping",
+    "Support", "Tabulated", "TipResult", "Traction", "Zone", "__version__", "discretize", "integrate",
+    "load_scene", "load_study", "solve", "solve_fem",
 ]

@@ -178,6 +178,8 @@ def cmd_run(args) -> int:
     name = file_name(scene.name if scene.name != "scene" else path.stem)
     out = Path(args.out) if args.out is not None else Path("out") / name
     _check_out(out, args.out is not None)
+    if not scene.is_static:  # a [time] table: the explicit driver
+        return _run_dynamic(args, path, scene, method, out, name)
     with _stage(f"{path}: cannot solve", f"{path}: the solve failed"):
         sol = solve(scene, method)
         timings.update({k: v for k, v in sol.timings.items() if k != "total"})
@@ -216,6 +218,23 @@ def cmd_run(args) -> int:
            "tips": [t.as_dict() for t in tips]}
     rep = jsonable(rep)
     print(json.dumps(rep, indent=1, allow_nan=False) if args.json else _summary(rep))
+    return 0
+
+
+def _run_dynamic(args, path: Path, scene, method, out: Path, name: str) -> int:
+    """``efgkit run`` of a dynamic scene: central differences, histories and their files."""
+    from .explicit import integrate, load_stepping
+
+    with _stage(f"{path}: cannot integrate", f"{path}: the time integration failed"):
+        stepping = load_stepping(path)
+        sol = integrate(scene, method, stepping, out=out / "vtu")
+    try:
+        rec = sol.write(out, name)
+    except OSError as err:
+        raise CLIError(f"cannot write to {str(out)!r}: {err}") from err
+    rec["file"] = str(path)
+    print(json.dumps(rec, indent=1, allow_nan=False) if args.json else
+          sol.summary() + "\n" + "\n".join(f"wrote     {p}" for p in rec["outputs"]))
     return 0
 
 

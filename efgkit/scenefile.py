@@ -45,6 +45,7 @@ from .methods.efg import EFG, Rosette, Zone
 from .problem.crack import Crack
 from .problem.exact.fields import Field
 from .problem.geometry import Domain, Loop
+from .problem.history import history_from_dict, with_time_table
 from .problem.material import Elastic
 from .problem.scene import Scene, Support, Traction
 
@@ -264,11 +265,12 @@ _SCHEMA: dict[str, tuple[type, tuple[str, ...], dict[str, Callable | None]]] = {
         "name": _str, "material": _one("material"), "domain": _one("domain"),
         "supports": _many("supports"), "tractions": _many("tractions"),
         "body_force": _pair, "cracks": _many("cracks"), "exact": _field,
-        "duration": _num, "efg": None}),
+        "duration": _num, "efg": None, "time": None, "body_force_history": history_from_dict,
+        "initial_displacement": _vector, "initial_velocity": _vector}),
     "material": (Elastic, ("E", "nu"), {"E": _num, "nu": _num, "plane": _str, "rho": _num}),
     "domain": (Domain, ("outer",), {"outer": _loop, "holes": _many("holes", _loop)}),
     "supports": (Support, ("edge",), {"edge": _str, "ux": _scalar, "uy": _scalar}),
-    "tractions": (Traction, ("edge", "t"), {"edge": _str, "t": _vector}),
+    "tractions": (Traction, ("edge", "t"), {"edge": _str, "t": _vector, "history": history_from_dict}),
     "cracks": (Crack, ("vertices",), {"vertices": _points, "tips": _tips, "name": _str,
                                       "pressure": _num}),
     "zones": (Zone, ("centre", "radius", "spacing"),
@@ -306,7 +308,7 @@ def scene_from_dict(d: dict) -> Scene:
         Naming the key path (see the module docstring).
     """
     _check_finite(d, "")
-    return _table(d, "", "")
+    return _table(with_time_table(d), "", "")  # [time] carries the duration of a dynamic scene
 
 
 def efg_from_dict(d: dict, path: str = "efg") -> EFG:

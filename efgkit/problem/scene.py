@@ -77,13 +77,17 @@ class Traction:
 
     ``t`` is a 2-vector, a callable ``x (n, 2) -> (n, 2)``, or a :class:`Field`
     (whose traction ``sigma . n`` on the edge's outward normal is applied).
+    ``history`` is a load factor ``g(t)`` (:mod:`efgkit.problem.history`, or any callable
+    float -> float) for dynamic scenes: the traction is ``g(t) t(x)``; None is constant.
     """
 
     edge: Where
     t: tuple[float, float] | Callable | Field
+    history: Callable | None = None
 
     def __post_init__(self):
         _check_value(f"traction on {self.edge!r}: t", self.t, vector=True)
+        _check_history(f"traction on {self.edge!r}: history", self.history)
 
 
 @dataclass(frozen=True)
@@ -109,6 +113,12 @@ class Scene:
     exact: Field | None = None
     name: str = "scene"
     duration: float | None = None  # None: static
+    # Dynamic scenes only: the body force's load factor g(t) (None: constant), and the
+    # initial displacement and velocity: 2-vectors (uniform), callables x (n, 2) -> (n, 2)
+    # or a Field's displacement (None: zero).
+    body_force_history: Callable | None = None
+    initial_displacement: tuple[float, float] | Callable | Field | None = None
+    initial_velocity: tuple[float, float] | Callable | Field | None = None
 
     def __post_init__(self):
         if not isinstance(self.domain, Domain):
@@ -130,6 +140,17 @@ class Scene:
         _check_scales(self)
         if self.duration is not None and not (math.isfinite(self.duration) and self.duration > 0):
             raise ValueError(f"duration must be finite and > 0 (or None), got {self.duration!r}")
+        _check_history("body_force_history", self.body_force_history)
+        for name in ("initial_displacement", "initial_velocity"):
+            _check_value(name, getattr(self, name), vector=True)
+        timed = [n for n, v in (("body_force_history", self.body_force_history),
+                                ("initial_displacement", self.initial_displacement),
+                                ("initial_velocity", self.initial_velocity))
+                 if v is not None] + [f"traction on {t.edge!r}: history" for t in self.tractions
+                                      if t.history is not None]
+        if timed and self.duration is None:
+            raise ValueError(f"{timed[0]} is given but duration is None (a static scene, which "
+                             "has no time): give duration to run the scene in time")
 
     @property
     def is_static(self) -> bool:
@@ -147,6 +168,18 @@ class Scene:
     def with_supports(self, supports) -> Scene:
         """A copy with ``supports`` replaced."""
         return replace(self, supports=tuple(supports))
+
+
+def _check_history(what: str, g) -> None:
+    """A load factor: None or a callable t -> float, finite at t = 0."""
+    if g is None:
+        return
+    if not callable(g):
+        raise TypeError(f"{what} must be a callable t -> factor (efgkit.problem.history) or None, "
+                        f"got {type(g).__name__}")
+    v = np.asarray(g(0.0), dtype=float)
+    if v.shape != () or not np.isfinite(v):
+        raise ValueError(f"{what}: g(0) must be a finite float, got {v!r}")
 
 
 def _check_cracks(cracks, domain: Domain) -> None:

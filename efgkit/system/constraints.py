@@ -155,10 +155,12 @@ def check_rigid_modes(C: csr_array, node_x: np.ndarray) -> None:
         )
 
 
-def penalty(K, f, bc: Dirichlet, beta: float, node_x: np.ndarray) -> LinearSystem:
-    """Penalty method, seed 003 Eq. (28)."""
+def penalty(K, f, bc: Dirichlet, beta: float, node_x: np.ndarray,
+            check: bool = True) -> LinearSystem:
+    """Penalty method, seed 003 Eq. (28). ``check=False`` allows rigid-body modes (dynamics)."""
     G = _component_operator(bc.shape, bc.fixed)
-    check_rigid_modes(G, node_x)
+    if check:
+        check_rigid_modes(G, node_x)
     w = np.broadcast_to(bc.w[:, None], bc.fixed.shape)[bc.fixed]
     W = diags_array(beta * w)
     A = csr_array(K + G.T @ W @ G)
@@ -166,14 +168,16 @@ def penalty(K, f, bc: Dirichlet, beta: float, node_x: np.ndarray) -> LinearSyste
     return LinearSystem(A, b, spd=True, n_coeffs=K.shape[0])
 
 
-def lagrange(K, f, bc: Dirichlet, node_x: np.ndarray) -> LinearSystem:
+def lagrange(K, f, bc: Dirichlet, node_x: np.ndarray, check: bool = True) -> LinearSystem:
     """Lagrange multipliers, seed 003 Eq. (26), with piecewise-linear multipliers.
+    ``check=False`` allows rigid-body modes (dynamics, where the mass holds them).
 
     ``[[K, G^T], [G, 0]] [c; lambda] = [f; q]`` with ``G_kI = int N_k phi_I ds``
     and ``q_k = int N_k ubar ds`` for each hat N_k and prescribed component.
     """
     Gpt = _component_operator(bc.shape, bc.fixed)  # (n_fixed_rows, n_dofs)
-    check_rigid_modes(Gpt, node_x)
+    if check:
+        check_rigid_modes(Gpt, node_x)
     pts, comps = np.nonzero(bc.fixed)
     n_hat = int(bc.seg_nodes.max()) + 1
     # Rows of Gpt (point, comp) -> hats (node, comp): N = 1 - t and t at the segment ends.
@@ -223,7 +227,7 @@ def boundary_traction_term(bc: Dirichlet, D: np.ndarray) -> csr_array:
 
 
 def modified_variational(K, f, bc: Dirichlet, D: np.ndarray, beta: float,
-                         node_x: np.ndarray) -> LinearSystem:
+                         node_x: np.ndarray, check: bool = True) -> LinearSystem:
     """Modified variational principle, seed 003 Eq. (27), with Nitsche stabilisation beta.
 
     With G u the prescribed components and T u the matching traction
@@ -232,7 +236,8 @@ def modified_variational(K, f, bc: Dirichlet, D: np.ndarray, beta: float,
     ``b = f - T^T W ubar + beta G^T W ubar``.
     """
     G = _component_operator(bc.shape, bc.fixed)
-    check_rigid_modes(G, node_x)
+    if check:
+        check_rigid_modes(G, node_x)
     T = _traction_operator(bc, D)
     w = np.broadcast_to(bc.w[:, None], bc.fixed.shape)[bc.fixed]
     W = diags_array(w)

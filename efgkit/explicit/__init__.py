@@ -1,0 +1,17 @@
+"""Explicit time integration: ``M u'' + K u = f(t)`` by central differences.
+
+``system`` assembles the semi-discrete system once (stiffness, lumped mass, loads per
+history, essential conditions) and estimates the critical step; ``integrate`` runs the
+loop of sparse products; ``output`` records probes, energies, SIFs and VTU series at the
+output instants; ``dsif`` is the hook where the dynamic SIFs are computed; ``result``
+holds the histories (:class:`DynamicSolution`).
+"""
+
+from .dsif import quasi_static_dsif
+from .integrate import BLOWUP_FACTOR, InstabilityError, State, initial_state, integrate, load_stepping
+from .result import DynamicSolution
+from .system import Dynamics, dynamics, fit_coefficients, stable_step
+
+__all__ = ["BLOWUP_FACTOR", "DynamicSolution", "Dynamics", "InstabilityError", "State", "dynamics",
+           "fit_coefficients", "initial_state", "integrate", "load_stepping", "quasi_static_dsif",
+           "stable_step"]

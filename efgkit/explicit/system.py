@@ -1,0 +1,305 @@
+"""The semi-discrete system ``M u'' + K u = f(t)`` of a dynamic scene, built once.
+
+:func:`dynamics` assembles the stiffness, the lumped mass (:mod:`efgkit.system.mass`),
+the load vectors of each load history, and the essential conditions; :func:`stable_step`
+estimates the critical step ``2 / omega_max`` (seed 002 Eqs. 29-30) from these matrices.
+
+Essential conditions in the explicit scheme follow ``method.bc``:
+
+* ``"lagrange"`` (and ``"auto"``, for dynamic scenes): the constraint ``G u = q`` of the
+  static Lagrange method (piecewise-linear multipliers along the supported edges) is
+  imposed on every new displacement by the M-orthogonal projection
+  ``u <- u - M^-1 G^T (G M^-1 G^T)^-1 (G u - q)`` (the forward-increment Lagrange
+  multipliers of Carpenter, Taylor and Katona, 1991), with ``G M^-1 G^T`` (a few hundred
+  rows) factorised once. The constraint forces do no work, the stiffness is untouched, and
+  the critical step is that of the constrained operator (not lowered).
+* ``"penalty"`` and ``"variational"``: the constraint terms are added to K (the static
+  system's matrix), which raises omega_max: the stable step falls (docs/theory.md).
+* ``"modified_mls"``: the coefficients of the interpolating boundary nodes are fixed
+  (row cross-out, seed 002 after Eq. 27): their inverse mass is set to 0.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+import scipy.linalg
+from scipy.sparse import csc_array, csr_array, diags_array
+from scipy.sparse.linalg import LinearOperator, eigs, eigsh, splu
+
+from ..meshless_solution import MeshlessSolution
+from ..methods.boundary import eliminated_dofs, essential_conditions, loads
+from ..methods.discretize import Discretization, discretize
+from ..methods.efg import EFG
+from ..problem.exact.fields import Field
+from ..problem.scene import Scene
+from ..static import DEFAULT_PENALTY, DEFAULT_STABILISATION
+from ..system.assemble import stiffness
+from ..system.constraints import lagrange, modified_variational, penalty
+from ..system.mass import row_sum_mass
+
+__all__ = ["Dynamics", "Projection", "dynamics", "fit_coefficients", "stable_step"]
+
+
+@dataclass(frozen=True, eq=False)
+class Projection:
+    """Impose ``G u = q`` on a displacement by the M-orthogonal projection.
+
+    Attributes
+    ----------
+    G : csr_array (r, n_dofs); q : (r,)
+    minv_GT : csr_array (n_dofs, r)
+        ``M^-1 G^T``.
+    lu : SuperLU
+        Factors of ``G M^-1 G^T`` (r, r).
+    """
+
+    G: csr_array
+    q: np.ndarray
+    minv_GT: csr_array
+    lu: object
+
+    @classmethod
+    def build(cls, G: csr_array, q: np.ndarray, minv: np.ndarray) -> Projection:
+        minv_GT = csr_array(diags_array(minv) @ G.T)
+        S = csc_array(G @ minv_GT)
+        try:
+            lu = splu(S)
+        except RuntimeError as err:  # exactly singular
+            raise ValueError(f"the constraint matrix G M^-1 G^T ({S.shape[0]} rows) is singular: "
+                             "two supports constrain the same motion twice; prescribe each "
+                             "component once on an edge or use bc='penalty'") from err
+        return cls(G, np.asarray(q, float), minv_GT, lu)
+
+    def correction(self, u: np.ndarray) -> np.ndarray:
+        """``M^-1 G^T (G M^-1 G^T)^-1 (G u - q)``, shape (n_dofs,): subtract it from u."""
+        return self.minv_GT @ self.lu.solve(self.G @ u - self.q)
+
+
+@dataclass(frozen=True, eq=False)
+class Dynamics:
+    """``M u'' + K u = f(t)``: everything the time loop needs, assembled.
+
+    Attributes
+    ----------
+    disc : Discretization
+    K : csr_array (n_dofs, n_dofs)
+        Stiffness, with the penalty / Nitsche terms of those methods.
+    m : ndarray (n_dofs,)
+        Lumped mass; ``minv`` its inverse, 0 on the fixed coefficients.
+    F : ndarray (n_dofs, n_loads)
+        One load vector per load history; ``histories`` their factors g(t) (None:
+        constant); ``f_bc`` the constant forcing of prescribed values (penalty, Nitsche).
+    projection : Projection or None
+        The Lagrange constraint (bc="lagrange").
+    fixed : ndarray (k,) int, fixed_values (k,)
+        Fixed coefficients (bc="modified_mls").
+    bc : str
+    timings : dict
+    """
+
+    disc: Discretization
+    K: csr_array
+    m: np.ndarray
+    minv: np.ndarray
+    F: np.ndarray
+    histories: tuple
+    f_bc: np.ndarray
+    projection: Projection | None
+    fixed: np.ndarray
+    fixed_values: np.ndarray
+    bc: str
+    timings: dict = field(default_factory=dict)
+
+    @property
+    def n_dofs(self) -> int:
+        return len(self.m)
+
+    @property
+    def time_dependent(self) -> bool:
+        return any(g is not None for g in self.histories)
+
+    def factors(self, t: float) -> np.ndarray:
+        """The load factors at ``t``, shape (n_loads,)."""
+        return np.array([1.0 if g is None else float(g(t)) for g in self.histories])
+
+    def force(self, t: float) -> np.ndarray:
+        """``f(t) = F g(t) + f_bc``, shape (n_dofs,)."""
+        return self.F @ self.factors(t) + self.f_bc
+
+
+def _load_scenes(scene: Scene) -> list[tuple[Scene, object]]:
+    """The scene split by load history: [(scene with only those loads, history)]."""
+    quiet = [replace(c, pressure=0.0) for c in scene.cracks]
+    bare = replace(scene, tractions=(), body_force=None, body_force_history=None, cracks=quiet,
+                   initial_displacement=None, initial_velocity=None)
+    const_t = tuple(t for t in scene.tractions if t.history is None)
+    const_b = scene.body_force if scene.body_force_history is None else None
+    out = []
+    if const_t or const_b is not None or any(c.pressure != 0 for c in scene.cracks):
+        out.append((replace(bare, tractions=const_t, body_force=const_b, cracks=scene.cracks), None))
+    out += [(replace(bare, tractions=(t,)), t.history) for t in scene.tractions if t.history is not None]
+    if scene.body_force is not None and scene.body_force_history is not None:
+        out.append((replace(bare, body_force=scene.body_force), scene.body_force_history))
+    return out
+
+
+def fit_coefficients(disc: Discretization, u) -> np.ndarray:
+    """MLS coefficients ``(n_dofs,)`` whose field interpolates ``u`` (a callable
+    ``x (n, 2) -> (n, 2)``, a :class:`~efgkit.problem.exact.fields.Field` or a 2-vector) at the nodes
+    (enrichment unknowns 0): ``Phi c = u(x_I)`` with the sparse nodal matrix ``Phi_IJ =
+    phi_J(x_I)`` (split nodes evaluated on their own face), solved by SuperLU."""
+    x = disc.nodes.face_positions(disc.approx.lines, 1e-3)
+    if isinstance(u, Field):
+        vals = u.displacement(x, disc.scene.material)
+    elif callable(u):
+        vals = np.asarray(u(x), dtype=float)
+    else:
+        vals = np.broadcast_to(np.asarray(u, dtype=float), x.shape)
+    if vals.shape != (len(x), 2) or not np.all(np.isfinite(vals)):
+        raise ValueError(f"an initial field must map x (n, 2) to finite values (n, 2); got shape "
+                         f"{vals.shape} for n = {len(x)}" + ("" if vals.shape != (len(x), 2) else
+                                                             " with non-finite values"))
+    phi = csc_array(csr_array(disc.shape_at(x, derivatives=False).phi)[:, : len(x)])
+    lu = splu(phi)
+    c = np.zeros(disc.n_dofs)
+    c[0:2 * len(x):2] = lu.solve(vals[:, 0])
+    c[1:2 * len(x):2] = lu.solve(vals[:, 1])
+    return c
+
+
+def dynamics(scene: Scene, method: EFG, disc: Discretization | None = None) -> Dynamics:
+    """Assemble ``M u'' + K u = f(t)`` for ``scene`` (module docstring).
+
+    Raises
+    ------
+    ValueError
+        The scene is static (``duration`` None) or has no density (``Elastic.rho``).
+    MassError
+        A lumped mass is not positive or the masses do not add up to rho times the area.
+    """
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene must be a Scene, got {type(scene).__name__}")
+    if scene.is_static:
+        raise ValueError(f"scene {scene.name!r} is static (duration None): give "
+                         "Scene(..., duration=...) to integrate it in time, or solve it with "
+                         "efgkit.solve")
+    if scene.material.rho is None:
+        raise ValueError(f"scene {scene.name!r}: a dynamic run needs the mass density: give "
+                         "Elastic(..., rho=...) (the [material] key rho in a scene file)")
+    bc_auto = method.bc == "auto"
+    method = method.for_scene(scene)
+    if bc_auto:
+        method = replace(method, bc="lagrange")  # projection: the stable step is not lowered
+    disc = discretize(scene, method) if disc is None else disc
+    timings = {}
+    t0 = time.perf_counter()
+    mat = scene.material
+    test = getattr(disc, "test", None)  # Petrov-Galerkin test functions (MLPG), else None
+    K = stiffness(disc.shape, disc.points.w, mat.D, test=test)
+    timings["stiffness"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    m = row_sum_mass(disc.shape, disc.points.w, mat.rho, area=scene.domain.area,
+                     node_x=disc.nodes.x, test=test)
+    timings["mass"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    parts = _load_scenes(scene)
+    F = np.column_stack([loads(replace(disc, scene=s)) for s, _ in parts]) if parts \
+        else np.zeros((disc.n_dofs, 0))
+    histories = tuple(g for _, g in parts)
+    timings["loads"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    minv = 1.0 / m
+    zero = np.zeros(disc.n_dofs)
+    f_bc, projection = zero, None
+    fixed, fixed_values = np.zeros(0, int), np.zeros(0)
+    if scene.supports:
+        h = method.spacing
+        if method.bc == "modified_mls":
+            fixed, fixed_values = eliminated_dofs(disc)
+            minv[fixed] = 0.0
+        else:
+            bc = essential_conditions(disc, derivatives=method.bc == "variational")
+            if method.bc == "penalty":
+                lin = penalty(K, zero, bc, (method.penalty or DEFAULT_PENALTY) * mat.E / h,
+                              disc.nodes.x, check=False)
+                K, f_bc = lin.A, lin.b
+            elif method.bc == "variational":
+                beta = (method.penalty or DEFAULT_STABILISATION) * mat.E / h
+                lin = modified_variational(K, zero, bc, mat.D, beta, disc.nodes.x, check=False)
+                K, f_bc = lin.A, lin.b
+            else:
+                lin = lagrange(K, zero, bc, disc.nodes.x, check=False)
+                n = disc.n_dofs
+                projection = Projection.build(csr_array(lin.A[n:, :n]), lin.b[n:], minv)
+    timings["constraints"] = time.perf_counter() - t0
+    return Dynamics(disc, _int32(csr_array(K)), m, minv, F, histories, f_bc, projection, fixed,
+                    fixed_values, method.bc, timings)
+
+
+def _int32(K: csr_array) -> csr_array:
+    """K with 32-bit column indices when they fit: ``K @ u`` reads a third less memory
+    (the product bounds the step)."""
+    if K.nnz >= 2**31 - 1 or K.indices.dtype == np.int32:
+        return K
+    K = csr_array((K.data, K.indices.astype(np.int32), K.indptr.astype(np.int32)), shape=K.shape)
+    return K
+
+
+def stable_step(dyn: Dynamics, tol: float = 1e-8, dense_below: int = 400) -> tuple[float, float]:
+    """Critical step ``dt_c = 2 / omega_max`` (seed 002 Eqs. 29-30) and ``omega_max^2``.
+
+    ``omega_max^2`` is the largest eigenvalue of ``K x = lambda M x`` on the admissible
+    motions: of ``A = Q M^-1/2 K M^-1/2 Q`` with ``Q`` the orthogonal projector onto
+    ``G M^-1/2 y = 0`` (Lagrange constraints; built with the factors of ``G M^-1 G^T``)
+    or onto the free coefficients (modified MLS). Lanczos (``eigsh``, largest algebraic,
+    relative accuracy ``tol``) or, for fewer than ``dense_below`` unknowns, a dense
+    eigensolver; for an unsymmetric K (Petrov-Galerkin MLPG) the largest modulus by Arnoldi
+    (``eigs``), where the energy identity of the scheme no longer holds. For meshless shape
+    functions ``h / c`` is not a bound: the matrices decide.
+
+    Returns
+    -------
+    dt_critical : float
+    lambda_max : float
+    """
+    n = dyn.n_dofs
+    s = np.sqrt(dyn.minv)  # 0 on fixed coefficients: they drop out
+    K, P = dyn.K, dyn.projection
+
+    def proj(y):
+        if P is None:
+            return y
+        return y - s * (P.G.T @ P.lu.solve(P.G @ (s * y)))
+
+    def apply(y):
+        y = proj(np.asarray(y).ravel())
+        return proj(s * (K @ (s * y)))
+
+    scale = abs(K).max()
+    symmetric = abs(K - K.T).max() <= 1e-10 * scale  # Petrov-Galerkin (MLPG) K is not
+    if n < dense_below:
+        A = s[:, None] * K.toarray() * s[None, :]
+        if P is not None:
+            Gt = P.G.toarray() * s[None, :]
+            Q = np.eye(n) - Gt.T @ np.linalg.solve(Gt @ Gt.T, Gt)
+            A = Q @ A @ Q
+        lam = float(scipy.linalg.eigvalsh(0.5 * (A + A.T), subset_by_index=[n - 1, n - 1])[0]) \
+            if symmetric else float(np.abs(np.linalg.eigvals(A)).max())
+    else:
+        op = LinearOperator((n, n), matvec=apply, dtype=float)
+        v0 = np.random.default_rng(0).standard_normal(n)
+        lam = float(eigsh(op, k=1, which="LA", tol=tol, v0=v0, return_eigenvectors=False)[0]) \
+            if symmetric else float(np.abs(eigs(op, k=1, which="LM", tol=tol, v0=v0,
+                                                return_eigenvectors=False)[0]))
+    if not (np.isfinite(lam) and lam > 0):
+        raise ValueError(f"the largest eigenvalue of M^-1 K is {lam!r}, not positive: the "
+                         "stiffness or mass is broken (check the material and the quadrature)")
+    return 2.0 / np.sqrt(lam), lam
+
+
+def solution_at(dyn: Dynamics, coeffs: np.ndarray, t: float, info: dict | None = None) -> MeshlessSolution:
+    """The fields of coefficients ``coeffs (n_dofs,)`` as a :class:`MeshlessSolution`."""
+    return MeshlessSolution(dyn.disc, np.asarray(coeffs, float), {"t": t, **(info or {})}, {})

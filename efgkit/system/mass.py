@@ -1,0 +1,110 @@
+"""The lumped mass matrix of the explicit driver, with its checks.
+
+Nodal unknowns get the row sum of the consistent mass, seed 002 Eqs. (25)-(27):
+
+    M_I = rho sum_q w_q v_I(x_q) sum_J psi_J(x_q)
+
+with the test functions ``v`` (``v = phi`` for EFG) and every trial function ``psi``
+(nodal MLS functions, which are a partition of unity, so ``M_I = rho sum_q w_q v_I(x_q)``).
+The enrichment unknowns (tip functions, extrinsic K_I, K_II fields) are not a partition
+of unity, are not translations and change sign, so their row sum can be zero or negative:
+they get the diagonal of the consistent mass instead,
+
+    M_e = rho sum_q w_q (E_e,x(x_q)^2 + E_e,y(x_q)^2),
+
+positive for every unknown that is non-zero somewhere (docs/theory.md, "Lumped mass").
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..approx.shape import Shape
+
+__all__ = ["MassError", "row_sum_mass"]
+
+
+class MassError(ValueError):
+    """A lumped mass is not positive, or the masses do not add up to rho times the area."""
+
+
+def row_sum_mass(shape: Shape, w: np.ndarray, rho: float, area: float | None = None,
+                 node_x: np.ndarray | None = None, test: Shape | None = None,
+                 rtol: float = 1e-6) -> np.ndarray:
+    """Diagonal lumped mass, shape (n_dofs,) in the DOF order of ``shape`` (2 I + c, then
+    the enrichment unknowns), seed 002 Eqs. (25)-(27) (module docstring).
+
+    Parameters
+    ----------
+    shape : Shape
+        Trial functions at the domain quadrature points (values only are used).
+    w : ndarray, shape (n_points,)
+        Quadrature weights.
+    rho : float
+        Mass density.
+    area : float, optional
+        Area of the body: with Bubnov-Galerkin test functions the nodal masses of each
+        component must add up to ``rho * area`` within ``rtol`` (checked when given).
+    node_x : ndarray, shape (n_nodes, 2), optional
+        Node positions, to name the node of a failing mass.
+    test : Shape, optional
+        Test functions (Petrov-Galerkin, e.g. MLPG); default the trial functions. Their
+        row sums ``rho int v_I`` need not add up to the body's mass: only positivity is
+        checked then.
+    rtol : float
+        Tolerance of the total-mass check.
+
+    Raises
+    ------
+    MassError
+        A mass is not positive (naming the unknown, its node and position), or the
+        total differs from ``rho * area``.
+
+    Examples
+    --------
+    >>> from efgkit import Domain, EFG
+    >>> from efgkit.methods.discretize import discretize
+    >>> from efgkit import Elastic, Scene
+    >>> d = discretize(Scene(Domain.rectangle(0, 0, 2, 1), Elastic(1.0, 0.3)), EFG(spacing=0.25))
+    >>> m = row_sum_mass(d.shape, d.points.w, 3.0, area=2.0)
+    >>> round(float(m[0::2].sum()), 10)      # rho * area = 6
+    6.0
+    """
+    if not (np.isfinite(rho) and rho > 0):
+        raise ValueError(f"rho must be finite and > 0, got {rho!r}: give Elastic(..., rho=...)")
+    test_given = test is not None
+    test = shape if test is None else test
+    w = np.asarray(w, dtype=float)
+    nb = test.neighbours
+    pu = np.asarray(shape.phi.sum(axis=1)).ravel()  # sum_J psi_J of the nodal functions
+    contrib = rho * (w * pu)[:, None] * test.values * nb.mask
+    m_nodal = np.bincount(nb.idx[nb.mask], contrib[nb.mask], minlength=test.n_functions)
+    parts = [np.repeat(m_nodal, 2)]
+    if shape.extra is not None:
+        e = shape.extra
+        m_extra = rho * (w @ (e.ux.multiply(e.ux)) + w @ (e.uy.multiply(e.uy)))
+        parts.append(np.asarray(m_extra).ravel())
+    m = np.concatenate(parts)
+    bad = np.flatnonzero(~(np.isfinite(m) & (m > 0)))
+    if len(bad):
+        k = int(bad[0])
+        n2 = 2 * test.n_functions
+        if k < n2:
+            where = f"node {k // 2}" + (f" at {node_x[k // 2].tolist()}" if node_x is not None else "")
+            why = ("its test function integrates to a non-positive value over the body (a node "
+                   "whose support barely reaches into the body, or a quadratic basis near a "
+                   "corner); check the quadrature covers its support, or use basis='linear'")
+        else:
+            where = f"enrichment unknown {k - n2}"
+            why = "its function is zero at every quadrature point: enrichment nodes outside the body"
+        raise MassError(f"lumped mass {m[k]:.3g} of unknown {k} ({where}) is not positive "
+                        f"({len(bad)} unknown(s) fail): {why}")
+    if area is not None and not test_given:
+        total = float(m_nodal.sum())
+        if abs(total - rho * area) > rtol * rho * area:
+            raise MassError(
+                f"the nodal masses add up to {total:.10g} per component, not rho * area = "
+                f"{rho * area:.10g} (relative difference {abs(total / (rho * area) - 1):.2e} > "
+                f"{rtol:g}): the domain quadrature weights sum to {w.sum():.10g} against the area "
+                f"{area:.10g}, or the shape functions are not a partition of unity at some points")
+    return m
