@@ -90,7 +90,7 @@ def kink_angle(KI, KII) -> np.ndarray:
     S = np.hypot(KI, math.sqrt(8.0) * KII)
     den = KI + S
     with np.errstate(invalid="ignore", divide="ignore"):
-        theta = -2.0 * np.arctan(np.where(den > 0, 2.0 * KII / np.where(den > 0, den, 1.0), 0.0))
+        theta = 0.0 - 2.0 * np.arctan(np.where(den > 0, 2.0 * KII / np.where(den > 0, den, 1.0), 0.0))
     return theta
 
 
