@@ -27,7 +27,7 @@ import math
 import time
 import warnings
 from collections.abc import Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -41,7 +41,7 @@ from ..static import solve
 from .extend import advance
 from .settings import Growth
 
-__all__ = ["GrowthState", "GrowthStep", "grow", "rediscretize"]
+__all__ = ["GrowthState", "GrowthStep", "grow", "growth_method", "rediscretize"]
 
 
 @dataclass(frozen=True)
@@ -76,6 +76,8 @@ class GrowthStep:
         Why the loop ends after this step, None while it goes on.
     seconds : dict str -> float
         ``discretize``, ``solve``, ``sifs`` and ``step`` (wall) times of this step.
+    state : GrowthState or None
+        Where the loop goes on from (restart), None at a stop.
     """
 
     index: int
@@ -92,6 +94,7 @@ class GrowthStep:
     events: tuple[str, ...]
     stop: str | None
     seconds: dict
+    state: GrowthState | None = None
 
 
 @dataclass(frozen=True)
@@ -130,6 +133,17 @@ def rediscretize(scene: Scene, method, previous=None):
     if isinstance(method, EFG):
         return discretize(scene, method)
     return None
+
+
+def growth_method(method, settings: Growth):
+    """The method used in every step: an EFG with the automatic enrichment and no
+    ``enrich_radius`` gets ``enrich_radius = min(2 spacing, da)``, so that its enrichment
+    is ramped to zero near the tip (a growing crack kinks at every step, and unramped
+    Williams fields over the whole body follow one kink only); the automatic tip zones
+    stay. Other methods are used as given."""
+    if isinstance(method, EFG) and method.enrichment == "auto" and method.enrich_radius is None:
+        return replace(method, enrich_radius=min(2.0 * method.spacing, settings.da))
+    return method
 
 
 def _solve(scene, method, disc):
@@ -190,6 +204,7 @@ def grow(scene: Scene, method, settings: Growth, start: GrowthState | None = Non
     0.9
     """
     _check(scene, method, settings, start)
+    method = growth_method(method, settings)
     st = start or GrowthState(0, scene.cracks)
     scene = scene.with_cracks(st.cracks)
     index, cycles, prev, events = st.index, st.cycles, st.previous or {}, st.events
@@ -235,14 +250,17 @@ def grow(scene: Scene, method, settings: Growth, start: GrowthState | None = Non
             if adv.scene is not None and not adv.scene.tips:
                 stop = "every tip has joined the boundary"
             nxt = adv
+        state = None
+        if stop is None:
+            prev = _previous(settings, ids, dK, lf, moves, path, a_ref, prev)
+            state = GrowthState(index + 1, nxt.scene.cracks, cycles, prev, nxt.events)
         secs = {"discretize": t1 - t0, "solve": t2 - t1, "sifs": t3 - t2,
                 "step": time.perf_counter() - t0}
         yield GrowthStep(index, scene, sol, tuple(tips), h.angle, h.K_eq, h.closed, lengths, lf,
                          cycles if paris else None, moves if stop is None else {}, events, stop,
-                         secs)
+                         secs, state)
         if stop is not None:
             return
-        prev = _previous(settings, ids, dK, lf, moves, path, a_ref, prev)
         scene, events, index = nxt.scene, nxt.events, index + 1
 
 
