@@ -129,7 +129,7 @@ def run(scene, method, settings, out, start: GrowthState | None = None, vtu: boo
     if figures:
         from .figures import plot_k, plot_life, plot_path
 
-        outputs.append(write_figure(plot_path(steps), out / "growth_path.png"))
+        outputs.append(write_figure(plot_path(steps, n_target=5000), out / "growth_path.png"))
         outputs.append(write_figure(plot_k(steps), out / "growth_K.png"))
         if steps[-1].cycles is not None:
             outputs.append(write_figure(plot_life(steps), out / "growth_life.png"))
