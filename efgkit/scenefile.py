@@ -264,7 +264,7 @@ _SCHEMA: dict[str, tuple[type, tuple[str, ...], dict[str, Callable | None]]] = {
         "name": _str, "material": _one("material"), "domain": _one("domain"),
         "supports": _many("supports"), "tractions": _many("tractions"),
         "body_force": _pair, "cracks": _many("cracks"), "exact": _field,
-        "duration": _num, "efg": None}),
+        "duration": _num, "efg": None, "growth": None}),
     "material": (Elastic, ("E", "nu"), {"E": _num, "nu": _num, "plane": _str, "rho": _num}),
     "domain": (Domain, ("outer",), {"outer": _loop, "holes": _many("holes", _loop)}),
     "supports": (Support, ("edge",), {"edge": _str, "ux": _scalar, "uy": _scalar}),
@@ -363,6 +363,20 @@ def load_study(path) -> tuple[Scene, EFG]:
             raise ValueError("missing required key 'efg' in scene file (top level): "
                              "a study needs the discretisation table [efg]")
         return scene, efg_from_dict(d["efg"])
+
+
+def growth_table(path) -> dict | None:
+    """The ``[growth]`` table of a scene file (a dict, checked to be a table of finite
+    values), or None without one; :meth:`efgkit.growth.Growth.from_dict` reads its keys
+    (docs/scenes.md)."""
+    path, d = _read(path)
+    if "growth" not in d:
+        return None
+    with _at(str(path)):
+        if not isinstance(d["growth"], dict):
+            raise TypeError(f"growth must be a table ([growth]), got {d['growth']!r}")
+        _check_finite(d["growth"], "growth")
+    return d["growth"]
 
 
 # --- writing (the inverse maps, for round trips and saving) -----------------------------

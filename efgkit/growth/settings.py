@@ -8,6 +8,7 @@ increment (fatigue).
 
 from __future__ import annotations
 
+import difflib
 import math
 from dataclasses import dataclass, fields
 
@@ -115,6 +116,39 @@ class Growth:
         for name in ("stop_unstable", "adaptive", "sif_error"):
             if not isinstance(getattr(self, name), bool):
                 raise TypeError(f"growth {name} must be a bool, got {getattr(self, name)!r}")
+
+    @classmethod
+    def from_dict(cls, d: dict, path: str = "growth") -> Growth:
+        """Build from a scene file's ``[growth]`` table: keys are the fields (``da``
+        required); errors name ``growth.<key>``.
+
+        Examples
+        --------
+        >>> Growth.from_dict({"da": 5.0, "max_steps": 3}).max_steps
+        3
+        """
+        if not isinstance(d, dict):
+            raise TypeError(f"{path} must be a table, got {d!r}")
+        valid = cls.keys()
+        for k in d:
+            if k not in valid:
+                near = difflib.get_close_matches(str(k), valid, n=1)
+                hint = f"did you mean {near[0]!r}?" if near else f"valid keys: {', '.join(valid)}"
+                raise ValueError(f"unknown key {k!r} in table '{path}'; {hint}")
+        if "da" not in d:
+            raise ValueError(f"missing required key 'da' in table '{path}' (the growth increment)")
+        types = {f.name: f.type for f in fields(cls)}
+        for k, v in d.items():
+            want = types[k]
+            ok = (isinstance(v, str) if "str" in want else isinstance(v, bool) if "bool" in want
+                  else isinstance(v, int) and not isinstance(v, bool) if want == "int"
+                  else isinstance(v, (int, float)) and not isinstance(v, bool))
+            if not ok:
+                raise TypeError(f"{path}.{k} must be {want.replace(' | None', '')}, got {v!r}")
+        try:
+            return cls(**{k: float(v) if types[k].startswith("float") else v for k, v in d.items()})
+        except (ValueError, TypeError) as err:
+            raise type(err)(f"{path}: {err}") from err
 
     @classmethod
     def keys(cls) -> tuple[str, ...]:
