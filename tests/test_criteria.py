@@ -6,8 +6,15 @@ import mpmath
 import numpy as np
 import pytest
 
-from efgkit.fracture.criteria import (critical_load_factor, delta_k, hoop_stress, kink_angle,
-                                      paris_cycles, paris_life, paris_rate)
+from efgkit.fracture.criteria import (
+    critical_load_factor,
+    delta_k,
+    hoop_stress,
+    kink_angle,
+    paris_cycles,
+    paris_life,
+    paris_rate,
+)
 
 RATIOS = [0.0, 1e-12, 0.1, 0.5, 1.0, 5.0]
 

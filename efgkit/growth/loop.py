@@ -35,7 +35,6 @@ from ..fem.model import FEM, solve_fem
 from ..fracture.criteria import critical_load_factor, delta_k, hoop_stress, paris_cycles, paris_rate
 from ..methods.discretize import discretize
 from ..methods.efg import EFG
-from ..problem.crack import Crack
 from ..problem.scene import Scene
 from ..static import solve
 from .extend import advance
