@@ -178,7 +178,7 @@ def cmd_run(args) -> int:
     name = file_name(scene.name if scene.name != "scene" else path.stem)
     out = Path(args.out) if args.out is not None else Path("out") / name
     _check_out(out, args.out is not None)
-    from .scenefile import growth_table
+    from .growth.command import growth_table
 
     with _stage(f"{path}: cannot grow the cracks", f"{path}: the growth loop failed"):
         table = growth_table(path)  # [growth]: the step loop (efgkit.growth)

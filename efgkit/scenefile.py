@@ -365,20 +365,6 @@ def load_study(path) -> tuple[Scene, EFG]:
         return scene, efg_from_dict(d["efg"])
 
 
-def growth_table(path) -> dict | None:
-    """The ``[growth]`` table of a scene file (a dict, checked to be a table of finite
-    values), or None without one; :meth:`efgkit.growth.Growth.from_dict` reads its keys
-    (docs/scenes.md)."""
-    path, d = _read(path)
-    if "growth" not in d:
-        return None
-    with _at(str(path)):
-        if not isinstance(d["growth"], dict):
-            raise TypeError(f"growth must be a table ([growth]), got {d['growth']!r}")
-        _check_finite(d["growth"], "growth")
-    return d["growth"]
-
-
 # --- writing (the inverse maps, for round trips and saving) -----------------------------
 
 def _out(v, path: str):

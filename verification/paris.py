@@ -4,9 +4,9 @@ Single-edge-cracked strip under uniform tension, W = 50 mm wide, 2 H = 300 mm hi
 (H / W ~ 3), sigma = 100 MPa on both ends (self-equilibrated; rigid-body motion held
 by a short stretch of the uncracked right edge on the crack line, where the reactions
 vanish by symmetry), E = 70 GPa, nu = 0.3, plane strain. The crack grows from
-a0 = 0.21 W to 0.51 W (tips between node columns) by the Paris loop of :mod:`efgkit.growth` (criterion "paris",
-maximum hoop stress direction; mode I by symmetry), C = 1e-12, m = 3 (mm/cycle,
-MPa sqrt(mm)), R = 0.
+a0 = 0.21 W to 0.51 W (tips between node columns) by the Paris loop of
+:mod:`efgkit.growth` (criterion "paris", maximum hoop stress direction; mode I by
+symmetry), C = 1e-12, m = 3 (mm/cycle, MPa sqrt(mm)), R = 0.
 
 Reference: the same Paris law integrated (:func:`efgkit.fracture.criteria.paris_life`,
 rtol 1e-10) over the same crack lengths with the handbook K of the single-edge-cracked
@@ -79,7 +79,7 @@ def main(quick: bool = False, out_dir=None) -> dict:
     rep.ref("K_handbook", "sigma sqrt(pi a) F(a/W)", "Tada, Paris and Irwin, The Stress Analysis of "
             "Cracks Handbook (3rd ed., 2000), p. 52: F = 1.12 - 0.231 s + 10.55 s^2 - 21.72 s^3 + "
             "30.39 s^4 (Brown and Srawley 1966), 0.5 % for a/W <= 0.6")
-    if quick:  # measured: see the record; coarse h and da
+    if quick:  # measured 2.9 % (K within 0.8 %; coarse h and da)
         rep.check("|life error| (quick: h = W/10, da = 0.1 W)", abs(err), "<=", 0.05)
     else:
         rep.check("|life error| against the handbook life (target 1 %)", abs(err), "<=", 0.01)

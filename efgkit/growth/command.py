@@ -7,11 +7,37 @@ returns the JSON-ready report that ``efgkit run`` prints.
 
 from __future__ import annotations
 
+import math
+from pathlib import Path
+
+try:
+    import tomllib
+except ModuleNotFoundError:  # pragma: no cover - Python 3.10
+    import tomli as tomllib
+
 from ..io import jsonable
 from .record import run
 from .settings import Growth
 
-__all__ = ["run_table", "summary"]
+__all__ = ["growth_table", "run_table", "summary"]
+
+
+def growth_table(path) -> dict | None:
+    """The ``[growth]`` table of a scene file (checked to be a table of finite numbers,
+    strings and booleans), or None without one; :meth:`Growth.from_dict` reads its keys
+    (docs/scenes.md). Call it on a file :func:`efgkit.load_study` has read."""
+    path = Path(path)
+    with open(path, "rb") as f:
+        d = tomllib.load(f)
+    if "growth" not in d:
+        return None
+    g = d["growth"]
+    if not isinstance(g, dict):
+        raise TypeError(f"{path}: growth must be a table ([growth]), got {g!r}")
+    for k, v in g.items():
+        if isinstance(v, float) and not math.isfinite(v):
+            raise ValueError(f"{path}: growth.{k} must be finite, got {v!r}")
+    return g
 
 
 def run_table(scene, method, table: dict, out, vtu: bool = False, on_step=None) -> dict:
