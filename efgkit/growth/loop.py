@@ -136,12 +136,14 @@ def rediscretize(scene: Scene, method, previous=None):
 
 def growth_method(method, settings: Growth):
     """The method used in every step: an EFG with the automatic enrichment and no
-    ``enrich_radius`` gets ``enrich_radius = min(2 spacing, da)``, so that its enrichment
-    is ramped to zero near the tip (a growing crack kinks at every step, and unramped
-    Williams fields over the whole body follow one kink only); the automatic tip zones
-    stay. Other methods are used as given."""
+    ``enrich_radius`` gets ``enrich_radius = 2 spacing``, so that its enrichment is ramped
+    to zero near the tip (a growing crack kinks at every step, and unramped Williams
+    fields over the whole body follow one kink only); the automatic tip zones stay.
+    Measured on the edge crack of verification/paris.py (h = 2.5 mm, a = 0.21 W and
+    0.51 W): K_I 0.07 % and 0.90 % below Tada's with 2 h, 0.62 % and 1.6 % with 0.5 h
+    (the FE reference: 0.13 % and 0.54 %). Other methods are used as given."""
     if isinstance(method, EFG) and method.enrichment == "auto" and method.enrich_radius is None:
-        return replace(method, enrich_radius=min(2.0 * method.spacing, settings.da))
+        return replace(method, enrich_radius=2.0 * method.spacing)
     return method
 
 
