@@ -15,7 +15,8 @@ p. 52, from Brown and Srawley 1966; 0.5 % for a / b <= 0.6, long strip):
 
     K = sigma sqrt(pi a) (1.12 - 0.231 s + 10.55 s^2 - 21.72 s^3 + 30.39 s^4),  s = a / W.
 
-Metric ``life_rel_error`` = N_efgkit / N_handbook - 1 (target 1 %). Quick mode: h = W / 10
+Metric ``life_rel_error`` = N_efgkit / N_handbook - 1 (target 1 %); ``sampling_rel_error``
+is the same with Tada's K at the loop's crack lengths (the integration error alone). Quick mode: h = W / 10
 and da = 0.1 W (3 solves); full mode: h = W / 20 and da = 0.025 W (13 solves).
 """
 
@@ -29,7 +30,7 @@ import numpy as np
 from _report import Report
 
 from efgkit import EFG, Crack, Domain, Elastic, Scene, Support, Traction
-from efgkit.fracture.criteria import paris_life
+from efgkit.fracture.criteria import paris_cycles, paris_life
 from efgkit.growth import Growth, grow
 
 NAME = "paris"
@@ -70,8 +71,11 @@ def main(quick: bool = False, out_dir=None) -> dict:
     K_ref = np.array([tada_K(x) for x in a])
     ref = paris_life(tada_K, A0, float(a[-1]), C, M, rtol=1e-10)
     err = float(N[-1] / ref.cycles - 1)
+    # the part of the error from integrating over the loop's samples: Tada's K at the same a
+    sampled = float(paris_cycles(a, K_ref, C, M)[-1] / ref.cycles - 1)
     rep.metrics.update({
-        "life_rel_error": err, "N_efgkit": float(N[-1]), "N_handbook": ref.cycles,
+        "life_rel_error": err, "sampling_rel_error": sampled, "N_efgkit": float(N[-1]),
+        "N_handbook": ref.cycles,
         "a": a.tolist(), "N": N.tolist(), "KI": K.tolist(), "K_handbook": K_ref.tolist(),
         "K_rel_error_max": float(np.max(np.abs(K / K_ref - 1))),
         "kink_deg_max": float(np.degrees(np.max(np.abs([s.kink[0] for s in steps])))),
@@ -95,7 +99,10 @@ def markdown(record: dict) -> list[str]:
             f"100 MPa, Paris C = 1e-12, m = 3; EFG spacing {m['spacing']:g} mm, da = {m['da']:g} "
             f"mm, {m['n_solves']} solves ({m['seconds']:.0f} s on a shared machine).", "", *rows,
             "", f"Life {m['N_efgkit']:.6g} cycles against {m['N_handbook']:.6g} from Tada's K: "
-            f"error {m['life_rel_error']:.2%}; largest K error {m['K_rel_error_max']:.2%}."]
+            f"error {m['life_rel_error']:.2%}; largest K error {m['K_rel_error_max']:.2%}. With "
+            f"Tada's K at the same crack lengths the integration over the samples alone gives "
+            f"{m['sampling_rel_error']:.2%}: the low K (longer life) and the integration over "
+            "increments (shorter) partly cancel."]
 
 
 if __name__ == "__main__":
