@@ -179,3 +179,18 @@ def test_cli_runs_the_growth_table(tmp_path, capsys):
     f.write_text(SCENE_FILE + "da = 0.3\nmax_step = 1\n")
     assert main(["run", str(f), "--out", str(tmp_path / "p")]) == 2
     assert "unknown key 'max_step' in table 'growth'; did you mean 'max_steps'?" in capsys.readouterr().err
+
+
+def test_several_cracks_grow_in_one_loop():
+    # two edge cracks; Paris: the leader grows by da, the other by da (dK_i / dK_lead)^m
+    left = Crack([[0.0, 0.6], [0.6, 0.6]], tips=(False, True), name="L")
+    right = Crack([[2.0, 1.4], [1.6, 1.4]], tips=(False, True), name="R")
+    g = Growth(da=0.1, max_steps=1, criterion="paris", paris_C=1e-4, paris_m=3.0)
+    s0, s1 = grow(plate((left, right)), FEM(h=0.25), g)
+    k = s0.K_eq
+    lead = int(np.argmax(k))
+    ids = [t.tip.id for t in s0.tips]
+    assert s0.da[ids[lead]] == 0.1
+    assert s0.da[ids[1 - lead]] == pytest.approx(0.1 * (k[1 - lead] / k[lead]) ** 3, rel=1e-12)
+    grown = {n: s1.lengths[n] - s0.lengths[n] for n in ("L", "R")}
+    assert grown == pytest.approx({t.tip.crack: s0.da[t.tip.id] for t in s0.tips}, rel=1e-12)
