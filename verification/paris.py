@@ -9,7 +9,7 @@ a0 = 0.21 W to 0.51 W (tips between node columns) by the Paris loop of
 symmetry), C = 1e-12, m = 3 (mm/cycle, MPa sqrt(mm)), R = 0.
 
 Reference: the same Paris law integrated (:func:`efgkit.fracture.criteria.paris_life`,
-rtol 1e-10) over the same crack lengths with the handbook K of the single-edge-cracked
+rtol 1e-8) over the same crack lengths with the handbook K of the single-edge-cracked
 strip (Tada, Paris and Irwin, The Stress Analysis of Cracks Handbook, 3rd ed. 2000,
 p. 52, from Brown and Srawley 1966; 0.5 % for a / b <= 0.6, long strip):
 
@@ -69,7 +69,7 @@ def main(quick: bool = False, out_dir=None) -> dict:
     N = np.array([s.cycles for s in steps])
     K = np.array([s.tips[0].KI for s in steps])
     K_ref = np.array([tada_K(x) for x in a])
-    ref = paris_life(tada_K, A0, float(a[-1]), C, M, rtol=1e-10)
+    ref = paris_life(tada_K, A0, float(a[-1]), C, M, rtol=1e-8)  # 5e-15 on the m = 2 closed form
     err = float(N[-1] / ref.cycles - 1)
     # the part of the error from integrating over the loop's samples: Tada's K at the same a
     sampled = float(paris_cycles(a, K_ref, C, M)[-1] / ref.cycles - 1)
@@ -83,7 +83,7 @@ def main(quick: bool = False, out_dir=None) -> dict:
     rep.ref("K_handbook", "sigma sqrt(pi a) F(a/W)", "Tada, Paris and Irwin, The Stress Analysis of "
             "Cracks Handbook (3rd ed., 2000), p. 52: F = 1.12 - 0.231 s + 10.55 s^2 - 21.72 s^3 + "
             "30.39 s^4 (Brown and Srawley 1966), 0.5 % for a/W <= 0.6")
-    if quick:  # measured 2.9 % (K within 0.8 %; coarse h and da)
+    if quick:  # measured -3.2 % (K within 0.7 %; coarse h and da); full mode: -0.02 %
         rep.check("|life error| (quick: h = W/10, da = 0.1 W)", abs(err), "<=", 0.05)
     else:
         rep.check("|life error| against the handbook life (target 1 %)", abs(err), "<=", 0.01)
