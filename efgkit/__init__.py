@@ -4,6 +4,7 @@ from importlib.metadata import PackageNotFoundError, version
 
 from .fem import FEM, FEMSolution, solve_fem
 from .fracture.sif import TipResult
+from .growth import Growth, GrowthStep, grow
 from .meshless_solution import MeshlessSolution
 from .methods import EFG, Rosette, Zone
 from .methods.discretize import discretize
@@ -18,7 +19,8 @@ except PackageNotFoundError:  # pragma: no cover - running from a source tree
     __version__ = "0.0.0"
 
 __all__ = [
-    "Crack", "Domain", "EFG", "Elastic", "FEM", "FEMSolution", "Field", "Loop", "MeshlessSolution",
+    "Crack", "Domain", "EFG", "Elastic", "FEM", "FEMSolution", "Field", "Growth", "GrowthStep", "Loop",
+    "MeshlessSolution",
     "Rosette", "Scene", "Solution", "Support", "TipResult", "Traction", "Zone", "__version__",
-    "discretize", "load_scene", "load_study", "solve", "solve_fem",
+    "discretize", "grow", "load_scene", "load_study", "solve", "solve_fem",
 ]

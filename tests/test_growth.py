@@ -70,7 +70,8 @@ def test_restart_reaches_the_same_result(tmp_path):
 
 
 def test_run_writes_log_restart_and_figures(tmp_path):
-    res = run(plate((EDGE,)), FEM(h=0.25), Growth(da=0.2, max_steps=1), tmp_path)
+    res = run(plate((EDGE,)), FEM(h=0.25), Growth(da=0.2, max_steps=1), tmp_path, vtu=True)
+    assert (tmp_path / "growth_0000.vtu").exists() and (tmp_path / "growth_0001.vtu").exists()
     lines = (tmp_path / "growth_log.jsonl").read_text().splitlines()
     assert [json.loads(x)["step"] for x in lines] == [0, 1]
     assert json.loads(lines[-1])["stop"] == res["stop"] == "maximum number of steps (1) reached"
