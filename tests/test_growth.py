@@ -195,3 +195,16 @@ def test_several_cracks_grow_in_one_loop():
     assert s0.da[ids[1 - lead]] == pytest.approx(0.1 * (k[1 - lead] / k[lead]) ** 3, rel=1e-12)
     grown = {n: s1.lengths[n] - s0.lengths[n] for n in ("L", "R")}
     assert grown == pytest.approx({t.tip.crack: s0.da[t.tip.id] for t in s0.tips}, rel=1e-12)
+
+
+def test_tips_below_the_threshold_stay():
+    # the short crack's K_eq is below the threshold: only the long one grows
+    long_ = Crack([[0.0, 0.6], [0.9, 0.6]], tips=(False, True), name="L")
+    short = Crack([[2.0, 1.4], [1.8, 1.4]], tips=(False, True), name="S")
+    probe = next(grow(plate((long_, short)), FEM(h=0.25), Growth(da=0.1, max_steps=1)))
+    k = dict(zip([t.tip.id for t in probe.tips], probe.K_eq, strict=True))
+    assert k["S:1"] < k["L:1"]
+    g = Growth(da=0.1, max_steps=1, K_threshold=0.5 * (k["S:1"] + k["L:1"]))
+    s0, s1 = grow(plate((long_, short)), FEM(h=0.25), g)
+    assert s0.da == {"L:1": 0.1}
+    assert s1.lengths["S"] == s0.lengths["S"] and s1.lengths["L"] == pytest.approx(1.0, abs=1e-12)

@@ -10,8 +10,8 @@ Each step (seed 003 Sect. 6):
 3. the maximum hoop stress criterion (:func:`~efgkit.fracture.criteria.hoop_stress`):
    kink angle and K_eq per tip, closure for K_I < 0; the load factor
    ``K_Ic / max K_eq`` with a toughness;
-4. stop tests (each stop names its reason), then every open tip grows by ``da`` along
-   its kink angle (:func:`~efgkit.growth.extend.advance`); with the Paris law the
+4. stop tests (each stop names its reason), then every open tip with ``K_eq`` above
+   ``K_threshold`` grows by ``da`` along its kink angle (:func:`~efgkit.growth.extend.advance`); with the Paris law the
    leading tip grows by ``da`` and the others by ``da`` times their rate over the
    leader's (the same cycles), and the cycles of the increment come from
    :func:`~efgkit.fracture.criteria.paris_cycles` between this step and the next.
@@ -288,7 +288,8 @@ def _stop_reason(s: Growth, index, h, lengths, lf, prev, dK) -> str | None:
 
 def _moves(s: Growth, ids, h, dK, prev) -> dict:
     if s.criterion != "paris":
-        return {i: s.da for i, c in zip(ids, h.closed, strict=True) if not c}
+        return {i: s.da for i, c, k in zip(ids, h.closed, h.K_eq, strict=True)
+                if not c and k > s.K_threshold}
     rate = paris_rate(dK, s.paris_C, s.paris_m, s.dK_th)
     top = float(rate.max())
     da = prev.get("da", s.da)

@@ -47,8 +47,8 @@ class Growth:
         Toughness: each step reports the load factor that brings the most critical tip to
         K_Ic (:func:`~efgkit.fracture.criteria.critical_load_factor`).
     K_threshold : float
-        Stop when every tip's K_eq (at the scene's loads) is at or below it (default 0:
-        only when every tip is closed).
+        A tip whose K_eq (at the scene's loads) is at or below it does not grow; the loop
+        stops when every tip's is (default 0: only closed tips stay).
     stop_unstable : bool
         With K_Ic: stop when the load factor falls from one step to the next (the crack
         would run at a falling load: unstable under the scene's load control).
