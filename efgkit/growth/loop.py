@@ -14,7 +14,8 @@ Each step (seed 003 Sect. 6):
    ``K_threshold`` grows by ``da`` along its kink angle
    (:func:`~efgkit.growth.extend.advance`); with the Paris law the leading tip grows
    by ``da`` and the others by ``da`` times their rate over the leader's (the same
-   cycles), and the cycles of the increment come from :func:`~efgkit.fracture.criteria.paris_cycles` between this step and the next.
+   cycles), and the cycles of the increment come from
+   :func:`~efgkit.fracture.criteria.paris_cycles` between this step and the next.
 
 The loop is a generator of :class:`GrowthStep`; the last step yielded carries ``stop``.
 A :class:`GrowthState` (the cracks and counters after a step; JSON in
