@@ -5,6 +5,7 @@ from importlib.metadata import PackageNotFoundError, version
 from .explicit import DynamicSolution, integrate
 from .fem import FEM, FEMSolution, solve_fem
 from .fracture.sif import TipResult
+from .growth import Growth, GrowthStep, grow
 from .meshless_solution import MeshlessSolution
 from .methods import EFG, Rosette, Zone
 from .methods.discretize import discretize
@@ -20,8 +21,8 @@ except PackageNotFoundError:  # pragma: no cover - running from a source tree
     __version__ = "0.0.0"
 
 __all__ = [
-    "Crack", "Domain", "DynamicSolution", "EFG", "Elastic", "FEM", "FEMSolution", "Field", "Heaviside",
-    "ImpactPulse", "Loop", "MeshlessSolution", "Ramp", "Rosette", "Scene", "Solution", "Stepping",
-    "Support", "Tabulated", "TipResult", "Traction", "Zone", "__version__", "discretize", "integrate",
-    "load_scene", "load_study", "solve", "solve_fem",
+    "Crack", "Domain", "DynamicSolution", "EFG", "Elastic", "FEM", "FEMSolution", "Field", "Growth",
+    "GrowthStep", "Heaviside", "ImpactPulse", "Loop", "MeshlessSolution", "Ramp", "Rosette", "Scene",
+    "Solution", "Stepping", "Support", "Tabulated", "TipResult", "Traction", "Zone", "__version__",
+    "discretize", "grow", "integrate", "load_scene", "load_study", "solve", "solve_fem",
 ]

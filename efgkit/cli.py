@@ -178,6 +178,20 @@ def cmd_run(args) -> int:
     name = file_name(scene.name if scene.name != "scene" else path.stem)
     out = Path(args.out) if args.out is not None else Path("out") / name
     _check_out(out, args.out is not None)
+    from .growth.command import growth_table
+
+    with _stage(f"{path}: cannot grow the cracks", f"{path}: the growth loop failed"):
+        table = growth_table(path)  # [growth]: the step loop (efgkit.growth)
+        if table is not None:
+            from .growth.command import run_table, summary
+
+            tty = sys.stderr.isatty()  # a progress line only on a terminal
+            step = (lambda s: print(f"\rgrowth step {s.index}", end="", file=sys.stderr)) if tty else None
+            rep = run_table(scene, method, table, out, vtu=args.vtu_steps, on_step=step)
+            print("", file=sys.stderr) if tty else None
+    if table is not None:
+        print(json.dumps(rep, indent=1, allow_nan=False) if args.json else summary(rep))
+        return 0
     if not scene.is_static:  # a [time] table: the explicit driver
         return _run_dynamic(args, path, scene, method, out, name)
     with _stage(f"{path}: cannot solve", f"{path}: the solve failed"):
@@ -341,6 +355,8 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--json", action="store_true", help="print one JSON object instead of text")
     r.add_argument("--samples", type=_sample_count, default=20000, metavar="N",
                    help="approximate number of field sample points (default: 20000)")
+    r.add_argument("--vtu-steps", action="store_true",
+                   help="with a [growth] table: write the fields of every step as VTU")
     r.set_defaults(func=cmd_run)
     v = sub.add_parser("verify", help="run verification scripts (verification/<name>.py)",
                        epilog=EXIT_STATUS, formatter_class=argparse.RawDescriptionHelpFormatter)
