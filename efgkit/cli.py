@@ -297,8 +297,8 @@ def cmd_verify(args) -> int:
 
 
 def cmd_sweep(args) -> int:
-    """Run a study file (efgkit.study): its points on dask, a table and figures; 1 if any
-    point failed or was lost."""
+    """Run a study file (efgkit.study): its points on dask, a table and figures; 1 unless
+    every point of the study has succeeded (in this run or an earlier one)."""
     from .io import file_name
     from .study import TerminalProgress, read_study, run_study
 
@@ -308,16 +308,17 @@ def cmd_sweep(args) -> int:
         raise CLIError(_message(err)) from err
     out = Path(args.out or sf.out or Path("out") / file_name(sf.study.name))
     _check_out(out, args.out is not None)
+    workers = sf.workers if args.workers is None else args.workers
     try:
         run = run_study(sf.study, out=out, scheduler=args.scheduler or sf.scheduler or "local",
-                        workers=sf.workers if args.workers is None else args.workers, retry_failed=args.retry_failed,
+                        workers=workers, retry_failed=args.retry_failed,
                         progress=TerminalProgress(sys.stderr))
     except (ValueError, TypeError) as err:
         raise CLIError(f"{args.study}: {_message(err)}") from err
     except OSError as err:
         raise CLIError(f"cannot write to {str(out)!r}: {err}") from err
     print(run.summary())
-    return FAILED if run.failed or run.lost else 0
+    return 0 if run.ok else FAILED
 
 
 # ---------------------------------------------------------------------------- main

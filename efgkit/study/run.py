@@ -63,6 +63,12 @@ class StudyRun:
     seconds: float
     lost_errors: dict
 
+    @property
+    def ok(self) -> bool:
+        """Whether every point of the study has a row with status ``ok`` (this run's or an
+        earlier one's)."""
+        return bool((self.table["status"] == "ok").all())
+
     def summary(self) -> str:
         """The report of ``efgkit sweep``: counts, then the files written."""
         t = self.table

@@ -24,14 +24,13 @@ A study file (``STUDY.toml``, ``docs/studies.md``) is read by :func:`read_study`
 
 Examples
 --------
->>> from efgkit.scenefile import scene_to_dict
 >>> doc = {"material": {"E": 1.0, "nu": 0.3},
 ...        "domain": {"outer": {"rectangle": [0.0, 0.0, 1.0, 1.0]}},
 ...        "supports": [{"edge": "left", "ux": 0.0, "uy": 0.0}],
 ...        "tractions": [{"edge": "right", "t": [1.0, 0.0]}], "efg": {"spacing": 0.25}}
 >>> s = Study(doc, (Parameter("material.nu", (0.2, 0.3)), Parameter("efg.spacing", (0.5, 0.25))))
->>> [p.params for p in s.points()]
-[{'material.nu': 0.2, 'efg.spacing': 0.5}, {'material.nu': 0.2, 'efg.spacing': 0.25}, {'material.nu': 0.3, 'efg.spacing': 0.5}, {'material.nu': 0.3, 'efg.spacing': 0.25}]
+>>> [tuple(p.params.values()) for p in s.points()]
+[(0.2, 0.5), (0.2, 0.25), (0.3, 0.5), (0.3, 0.25)]
 >>> len(Study(doc, s.parameters, combine="zip").points())
 2
 """
