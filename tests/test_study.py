@@ -288,3 +288,19 @@ def test_import_does_not_load_dask():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
                          cwd=Path(__file__).resolve().parents[1])
     assert out.stdout.strip() == "[]"
+
+
+@pytest.mark.parametrize("name, tips", [("calibration_sent", ("edge:1",)),
+                                        ("calibration_cct", ("centre:0", "centre:1"))])
+def test_shipped_study_files(name, tips):
+    """The K-calibration studies: 10 crack lengths a = 0.10, 0.15, ..., 0.55 (solved in
+    verification/k_calibration.py)."""
+    from efgkit.scenefile import scene_from_dict
+
+    sf = read_study(Path(__file__).resolve().parents[1] / "examples" / f"{name}.toml")
+    points = sf.study.points()
+    assert [p.params["a"] for p in points] == [round(0.1 + 0.05 * k, 2) for k in range(10)]
+    for p in (points[0], points[-1]):
+        scene = scene_from_dict(p.doc)
+        assert tuple(t.id for t in scene.tips) == tips
+        assert max(t.x[0] for t in scene.tips) == p.params["a"]

@@ -135,7 +135,7 @@ class Parameter:
         """``num`` values evenly spaced from ``start`` to ``stop`` (both included)."""
         if isinstance(num, bool) or not isinstance(num, (int, np.integer)) or num < 1:
             raise ValueError(f"Parameter {path!r}: num must be an integer >= 1, got {num!r}")
-        return cls(path, tuple(float(v) for v in np.linspace(start, stop, num)), name=name)
+        return cls(path, tuple(float(f"{v:.15g}") for v in np.linspace(start, stop, num)), name=name)
 
     @property
     def label(self) -> str:
