@@ -304,3 +304,22 @@ def test_shipped_study_files(name, tips):
         scene = scene_from_dict(p.doc)
         assert tuple(t.id for t in scene.tips) == tips
         assert max(t.x[0] for t in scene.tips) == p.params["a"]
+
+
+def test_figures_of_a_grid_draw_a_line_per_combination_of_the_others():
+    import pandas as pd
+
+    from efgkit.study import plot_study
+
+    study = Study(DOC, (Parameter("material.nu", (0.2, 0.3)),
+                        Parameter(TIP_X, (0.3, 0.4, 0.5), name="a")), name="g")
+    pts = study.points()
+    df = pd.DataFrame({"key": [p.key for p in pts], "status": ["ok"] * 5 + ["failed"],
+                       "material.nu": [p.params["material.nu"] for p in pts],
+                       "a": [p.params["a"] for p in pts],
+                       "KI[c:1]": np.arange(6.0), "KII[c:1]": np.zeros(6)})
+    figs = plot_study(df, study)
+    assert list(figs) == ["material.nu", "a"]
+    (ax,) = figs["a"].axes  # K_II is zero: K_I alone
+    assert [len(line.get_xdata()) for line in ax.get_lines()] == [3, 2]  # nu = 0.2, 0.3 (one failed)
+    assert "1 failed or missing" in figs["a"].texts[0].get_text()

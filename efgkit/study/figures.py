@@ -1,10 +1,12 @@
 """Figures of a study: K against each varied parameter.
 
-One figure per parameter: K_I (and K_II where any point has one) of every tip against
-the parameter's values. Where other parameters vary too (a grid), the points that
-share their values are joined by a line, one line per combination (up to
-:data:`MAX_LINES`, beyond which they are drawn as points only). Failed and missing
-points are left out. Figures are returned, never shown (design rule 10).
+One figure per parameter: K_I (and K_II where some point has one above 1e-3 of the largest
+K_I: less is the noise of a mode-I problem) of every tip against the parameter's values.
+In a grid, the points that share the values of the other parameters are joined by a
+line, one line per combination (up to :data:`MAX_LINES`, beyond which they are drawn
+as points only); in a zip study the points form one line (the parameters vary
+together), in a random one a cloud. Failed and missing points are left out. Figures are
+returned, never shown (design rule 10).
 """
 
 from __future__ import annotations
@@ -50,12 +52,13 @@ def plot_study(df, study) -> dict:
     figs = {}
     for x in labels:
         ks = ["KI"] + ["KII"] * any(np.nanmax(np.abs(ok[f"KII[{t}]"].to_numpy(float)), initial=0)
-                                    > 1e-9 * np.nanmax(np.abs(ok[f"KI[{t}]"].to_numpy(float)),
+                                    > 1e-3 * np.nanmax(np.abs(ok[f"KI[{t}]"].to_numpy(float)),
                                                        initial=0) for t in tips)
         fig, axes = plt.subplots(1, len(ks), figsize=(5.5 * len(ks), 4.0), squeeze=False)
-        others = [o for o in labels if o != x and ok[o].nunique() > 1] if len(ok) else []
+        grid = study.combine == "grid"
+        others = [o for o in labels if o != x and ok[o].nunique() > 1] if grid and len(ok) else []
         series = _series(ok, x, others) if len(ok) else []
-        joined = len(series) * max(len(tips), 1) <= MAX_LINES
+        joined = study.combine != "random" and len(series) * max(len(tips), 1) <= MAX_LINES
         for ax, k in zip(axes[0], ks, strict=True):
             for t in tips:
                 for lab, g in series:

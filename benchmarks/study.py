@@ -1,0 +1,175 @@
+"""Parameter studies on dask: speed-up of a 64-point study on 1 and 2 local workers, and the
+overhead per point against a plain loop of the same solves, written to
+docs/performance_study.md.
+
+Run:  python benchmarks/study.py             (64 points, 3 interleaved rounds, ~5 minutes)
+      python benchmarks/study.py --quick     (4 points, 1 round, a smoke run)
+
+The study is ``examples/sent_tension.toml`` at spacing 0.2 (default EFG settings), its crack
+length a = 0.2 ... 0.6 W over the points, K without the error estimate. Each round runs, one
+after the other: a plain loop of the same solves in this process (one numba thread, as a
+worker has), then :func:`efgkit.study.run_study` on a local cluster of 1 worker and of 2
+workers (processes, one thread each), each into a fresh directory. Reported per variant: the
+median over the rounds of the wall time with the cluster's start and without it (the study
+running on a cluster already up), and the time the workers spent inside the points (the
+rows' ``time_total``). Speed-up = 1-worker wall / 2-worker wall (both without the start);
+overhead per point = (1-worker wall - plain loop) / points.
+"""
+
+from __future__ import annotations
+
+import argparse
+import copy
+import json
+import os
+import platform
+import statistics
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+try:
+    import tomllib
+except ModuleNotFoundError:  # pragma: no cover - Python 3.10
+    import tomli as tomllib
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def study(n: int, spacing: float):
+    from efgkit.study import Parameter, Study
+
+    with open(ROOT / "examples" / "sent_tension.toml", "rb") as f:
+        base = tomllib.load(f)
+    base = copy.deepcopy(base)
+    base["efg"]["spacing"] = spacing
+    return Study(base, (Parameter.linspace("cracks.0.vertices.1.0", 0.2, 0.6, n, name="a"),),
+                 name="bench", error_estimate=False)
+
+
+def plain_loop(st) -> tuple[float, list]:
+    """The points' solves and K in this process, no study machinery: (seconds, K_I)."""
+    import numba
+
+    from efgkit.scenefile import efg_from_dict, scene_from_dict
+    from efgkit.static import solve
+
+    old = numba.get_num_threads()
+    numba.set_num_threads(1)  # as in a worker
+    try:
+        t0 = time.perf_counter()
+        ks = []
+        for p in st.points():
+            sol = solve(scene_from_dict(p.doc), efg_from_dict(p.doc["efg"]))
+            ks.append(sol.sifs(error=False)[0].KI)
+        return time.perf_counter() - t0, ks
+    finally:
+        numba.set_num_threads(old)
+
+
+def on_cluster(st, workers: int) -> dict:
+    from efgkit.study import open_client, run_study
+
+    t0 = time.perf_counter()
+    client, cluster = open_client("local", workers)
+    try:
+        client.run(lambda: __import__("efgkit.static"))  # workers import efgkit once
+        t_start = time.perf_counter() - t0
+        with tempfile.TemporaryDirectory() as out:
+            t1 = time.perf_counter()
+            run = run_study(st, out=out, scheduler=client, figures=False)
+            wall = time.perf_counter() - t1
+    finally:
+        client.close()
+        cluster.close()
+    t = run.table
+    assert (t["status"] == "ok").all(), t[t["status"] != "ok"]["error_message"].tolist()
+    return {"start": t_start, "wall": wall, "with_start": t_start + wall,
+            "inside": float(t["time_total"].sum()), "KI": t["KI[edge:1]"].tolist()}
+
+
+def main(argv=None) -> dict:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--points", type=int, default=None)
+    ap.add_argument("--rounds", type=int, default=None)
+    ap.add_argument("--no-write", action="store_true")
+    args = ap.parse_args(argv)
+    n = args.points or (4 if args.quick else 64)
+    rounds = args.rounds or (1 if args.quick else 3)
+    st = study(n, 0.2)
+    plain_loop(study(2, 0.2))  # warm-up: compiles (or loads) the kernels in this process
+    res = {"loop": [], "1": [], "2": []}
+    for r in range(rounds):
+        t, ks = plain_loop(st)
+        res["loop"].append({"wall": t})
+        for w in ("1", "2"):
+            res[w].append(on_cluster(st, int(w)))
+            # the same numbers whatever ran them
+            assert np.allclose(res[w][-1]["KI"], ks, rtol=1e-10, atol=0), (w, r)
+        print(f"round {r + 1}/{rounds}: loop {t:.1f} s, 1 worker {res['1'][-1]['wall']:.1f} s "
+              f"(+{res['1'][-1]['start']:.1f} s start), 2 workers {res['2'][-1]['wall']:.1f} s "
+              f"(+{res['2'][-1]['start']:.1f} s start)", file=sys.stderr)
+    med = {k: {q: statistics.median(x[q] for x in v) for q in v[0] if q != "KI"}
+           for k, v in res.items()}
+    out = {"points": n, "rounds": rounds, "median": med, "runs": res,
+           "speedup": med["1"]["wall"] / med["2"]["wall"],
+           "speedup_with_start": med["1"]["with_start"] / med["2"]["with_start"],
+           "speedups": [a["wall"] / b["wall"] for a, b in zip(res["1"], res["2"], strict=True)],
+           "overhead_per_point": (med["1"]["wall"] - med["loop"]["wall"]) / n,
+           "overhead": med["1"]["wall"] / med["loop"]["wall"] - 1,
+           "overheads": [a["wall"] / b["wall"] - 1 for a, b in zip(res["1"], res["loop"],
+                                                                    strict=True)],
+           "overhead_with_start": med["1"]["with_start"] / med["loop"]["wall"] - 1,
+           "cores": len(os.sched_getaffinity(0)), "load": os.getloadavg(),
+           "machine": f"{platform.machine()}, CPython {platform.python_version()}",
+           "date": time.strftime("%Y-%m-%d")}
+    for v in res.values():
+        for x in v:
+            x.pop("KI", None)
+    cmd = "python benchmarks/study.py" + (" --quick" if args.quick else "")
+    if not args.no_write:
+        (ROOT / "docs" / "performance_study.md").write_text(markdown(out, cmd))
+        (ROOT / "benchmarks" / "out").mkdir(exist_ok=True)
+        (ROOT / "benchmarks" / "out" / "study.json").write_text(json.dumps(out, indent=1))
+    print(json.dumps({k: out[k] for k in ("speedup", "overhead", "overhead_per_point")}))
+    return out
+
+
+def markdown(r: dict, cmd: str) -> str:
+    m = r["median"]
+    per = m["loop"]["wall"] / r["points"]
+    rows = [("plain loop (this process, 1 numba thread)", m["loop"]["wall"], None, None),
+            ("study, local cluster of 1 worker", m["1"]["wall"], m["1"]["start"], m["1"]["inside"]),
+            ("study, local cluster of 2 workers", m["2"]["wall"], m["2"]["start"],
+             m["2"]["inside"])]
+    load = ", ".join(f"{x:.1f}" for x in r["load"])
+    lines = [
+        "# Performance of parameter studies", "",
+        f"Generated by `{cmd}` on {r['machine']}, {r['cores']} cores ({r['date']}), **on a "
+        f"machine shared with other jobs** (load average at the end {load} on {r['cores']} "
+        "cores): the absolute times are noisy and the ratios are what to read. "
+        f"{r['points']}-point study of `examples/sent_tension.toml` at spacing 0.2 (crack "
+        f"length a = 0.2 ... 0.6 W, K without the error estimate), {per:.2f} s per point in the "
+        f"plain loop; medians of {r['rounds']} rounds, each running the three variants one "
+        "after the other.", "",
+        "| variant | wall s | cluster start s | inside the points s |", "|---|---|---|---|"]
+    for name, wall, start, inside in rows:
+        lines.append(f"| {name} | {wall:.1f} | " + (f"{start:.1f}" if start is not None else "-")
+                     + " | " + (f"{inside:.1f}" if inside is not None else "-") + " |")
+    sp = ", ".join(f"{x:.2f}" for x in r["speedups"])
+    ov = ", ".join(f"{x:+.1%}" for x in r["overheads"])
+    lines += ["",
+              f"- Speed-up 2 workers / 1 worker: **{r['speedup']:.2f}x** (rounds: {sp}; with "
+              f"the cluster's start: {r['speedup_with_start']:.2f}x). Target >= 1.7x on 2 cores.",
+              f"- Overhead of the study on 1 worker against the plain loop: **{r['overhead']:+.1%}**"
+              f", {r['overhead_per_point'] * 1e3:.0f} ms per point (rounds: {ov}; with the "
+              f"cluster's start: {r['overhead_with_start']:+.1%}). Target <= 10 %.", ""]
+    return "\n".join(lines)
+
+
+if __name__ == "__main__":
+    main()
