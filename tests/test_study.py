@@ -323,3 +323,42 @@ def test_figures_of_a_grid_draw_a_line_per_combination_of_the_others():
     (ax,) = figs["a"].axes  # K_II is zero: K_I alone
     assert [len(line.get_xdata()) for line in ax.get_lines()] == [3, 2]  # nu = 0.2, 0.3 (one failed)
     assert "1 failed or missing" in figs["a"].texts[0].get_text()
+
+
+def test_an_unreachable_scheduler_is_named():
+    from efgkit.study import open_client
+
+    # loopback port 9 (discard): nothing listens there on a test machine
+    with pytest.raises(ValueError, match=r"cannot reach the dask scheduler 'tcp://127.0.0.1:9'.*"
+                                         r"start one"):
+        open_client("tcp://127.0.0.1:9", timeout=1.0)
+
+
+@pytest.mark.slow
+def test_a_worker_that_dies_loses_nothing(tmp_path):
+    """A local cluster of 2 worker processes; one is killed (SIGKILL) after the first row:
+    dask runs its point again on the restarted worker and every point gets its row."""
+    import os
+    import signal
+
+    from efgkit.study import open_client
+
+    study = Study(DOC, (Parameter(TIP_X, tuple(np.linspace(0.2, 0.6, 8)), name="a"),),
+                  name="tiny", error_estimate=False)
+    client, cluster = open_client("local", 2)
+    killed = []
+
+    def kill_one(done, total, failed):
+        if not killed:
+            pid = next(iter(client.run(os.getpid).values()))
+            os.kill(pid, signal.SIGKILL)
+            killed.append(pid)
+
+    try:
+        run = run_study(study, out=tmp_path, scheduler=client, progress=kill_one, figures=False)
+    finally:
+        client.close()
+        cluster.close()
+    assert killed and run.lost == 0 and run.ok and run.computed == 8
+    # the killed process finished at most the first point; the rest ran elsewhere
+    assert sum(w.endswith(f":{killed[0]}") for w in run.table["worker"]) <= 1
