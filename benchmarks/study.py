@@ -13,8 +13,9 @@ workers (processes, one thread each), each into a fresh directory. Reported per 
 median over the rounds of the wall time with the cluster's start and without it (the study
 running on a cluster already up and warm: each worker has imported efgkit and loaded the
 compiled kernels with one tiny solve, as the plain loop's process has), and the time the
-workers spent inside the points (the rows' ``time_total``). Speed-up = 1-worker wall / 2-worker wall (both without the start);
-overhead per point = (1-worker wall - plain loop) / points.
+workers spent inside the points (the rows' ``time_total``). Speed-up = 1-worker wall /
+2-worker wall (both without the start); overhead per point = (1-worker wall - plain loop)
+/ points.
 """
 
 from __future__ import annotations
