@@ -362,3 +362,37 @@ def test_a_worker_that_dies_loses_nothing(tmp_path):
     assert killed and run.lost == 0 and run.ok and run.computed == 8
     # the killed process finished at most the first point; the rest ran elsewhere
     assert sum(w.endswith(f":{killed[0]}") for w in run.table["worker"]) <= 1
+
+
+def test_a_local_cluster_that_cannot_start_says_why(monkeypatch):
+    import distributed
+
+    from efgkit.study import open_client
+
+    def refuse(*args, **kwargs):  # what dask raises when a script lacks the main guard
+        raise RuntimeError("Nanny failed to start.")
+
+    monkeypatch.setattr(distributed, "LocalCluster", refuse)
+    with pytest.raises(RuntimeError, match=r"did not start \(Nanny failed to start.\); a script "
+                                           r"that starts one must do so under `if __name__"):
+        open_client("local", 1)
+
+
+def test_progress_only_on_a_terminal():
+    import io
+
+    from efgkit.study import TerminalProgress
+
+    class Tty(io.StringIO):
+        def isatty(self):
+            return True
+
+    pipe, tty = io.StringIO(), Tty()
+    for stream in (pipe, tty):
+        progress = TerminalProgress(stream)
+        progress(1, 2, 0)
+        progress(2, 2, 1)
+    assert pipe.getvalue() == ""  # CI logs and pipes stay silent
+    lines = tty.getvalue().split("\r")[1:]
+    assert lines[0].startswith("sweep: 1/2 points, ") and "s left" in lines[0]
+    assert lines[1].startswith("sweep: 2/2 points, 1 failed") and lines[1].endswith("\n")

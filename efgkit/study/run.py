@@ -139,9 +139,15 @@ def open_client(scheduler="local", workers: int | None = None, timeout: float = 
         inproc = scheduler == "inprocess"
         n = workers or (1 if inproc else _cores())
         kw = {} if inproc else {"env": dict(THREAD_ENV)}
-        with dask.config.set(NANNY_CONFIG):
-            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=not inproc,
-                                   dashboard_address=None, silence_logs=logging.ERROR, **kw)
+        try:
+            with dask.config.set(NANNY_CONFIG):
+                cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=not inproc,
+                                       dashboard_address=None, silence_logs=logging.ERROR, **kw)
+        except RuntimeError as err:  # a worker process could not start
+            raise RuntimeError(
+                f"the local dask cluster did not start ({err}); a script that starts one must "
+                "do so under `if __name__ == \"__main__\":` (its workers are new processes that "
+                "import the script), or use scheduler='synchronous'") from err
         return Client(cluster), cluster
     if not isinstance(scheduler, str):
         raise TypeError(f"scheduler must be 'local', 'inprocess', 'synchronous', an address "
