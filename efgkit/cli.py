@@ -1,4 +1,4 @@
-"""Command line: ``efgkit run SCENE.toml`` and ``efgkit verify [NAME ...]``.
+"""Command line: ``efgkit run SCENE.toml``, ``efgkit verify [NAME ...]``, ``efgkit sweep STUDY.toml``.
 
 Thin by design (design rule 11): one function per subcommand over the public
 API, testable as ``main(argv)``. Every error is one line on stderr,
@@ -28,7 +28,8 @@ FAILED, REFUSED = 1, 2
 EXIT_STATUS = """exit status:
   0  success
   1  the computation failed: a numerical failure (singular matrix, no convergence,
-     non-finite results, out of memory), or a failed verification
+     non-finite results, out of memory), a failed verification, or a study point that
+     failed or was lost
   2  the input was refused: usage, the scene file (missing, malformed, unknown keys),
      a scene or discretisation that cannot be solved as given (rigid-body modes,
      unsupported options, too large for the memory), the output directory
@@ -325,6 +326,34 @@ def cmd_verify(args) -> int:
     return 1 if failed else 0
 
 
+# --------------------------------------------------------------------------- sweep
+
+
+def cmd_sweep(args) -> int:
+    """Run a study file (efgkit.study): its points on dask, a table and figures; 1 unless
+    every point of the study has succeeded (in this run or an earlier one)."""
+    from .io import file_name
+    from .study import TerminalProgress, read_study, run_study
+
+    try:
+        sf = read_study(args.study)
+    except (OSError, ValueError, TypeError) as err:
+        raise CLIError(_message(err)) from err
+    out = Path(args.out or sf.out or Path("out") / file_name(sf.study.name))
+    _check_out(out, args.out is not None)
+    workers = sf.workers if args.workers is None else args.workers
+    try:
+        run = run_study(sf.study, out=out, scheduler=args.scheduler or sf.scheduler or "local",
+                        workers=workers, retry_failed=args.retry_failed,
+                        progress=TerminalProgress(sys.stderr))
+    except (ValueError, TypeError) as err:
+        raise CLIError(f"{args.study}: {_message(err)}") from err
+    except OSError as err:
+        raise CLIError(f"cannot write to {str(out)!r}: {err}") from err
+    print(run.summary())
+    return 0 if run.ok else FAILED
+
+
 # ---------------------------------------------------------------------------- main
 
 
@@ -364,7 +393,16 @@ def _parser() -> argparse.ArgumentParser:
     v.add_argument("--quick", action="store_true", help="quick mode (coarse, for CI)")
     v.add_argument("--list", action="store_true", help="list the available scripts")
     v.set_defaults(func=cmd_verify)
-    for s in (r, v):  # also after the subcommand; SUPPRESS keeps a --debug given before it
+    w = sub.add_parser("sweep", help="run a parameter study (docs/studies.md) on a dask cluster",
+                       epilog=EXIT_STATUS, formatter_class=argparse.RawDescriptionHelpFormatter)
+    w.add_argument("study", metavar="STUDY.toml")
+    w.add_argument("--scheduler", metavar="ADDR", help="'local' (default: one worker per core), "
+                   "'synchronous', tcp://host:8786 or a scheduler file *.json")
+    w.add_argument("--workers", type=int, metavar="N", help="local cluster: worker processes")
+    w.add_argument("--out", metavar="DIR", help="output directory (default: out/<study name>)")
+    w.add_argument("--retry-failed", action="store_true", help="run failed points again")
+    w.set_defaults(func=cmd_sweep)
+    for s in (r, v, w):  # also after the subcommand; SUPPRESS keeps a --debug given before it
         s.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
                        help="show the traceback of an error")
     return p
