@@ -64,8 +64,8 @@ def cct(a_over_b: float = 0.5, h_over_b: float = 3.0, b: float = 1.0, sigma: flo
         K_I = sigma sqrt(pi a) (1 - 0.025 alpha^2 + 0.06 alpha^4) sqrt(sec(pi alpha / 2))
 
     accurate to 0.1 % for any alpha in an infinitely long strip; Isida (1971) tabulates
-    finite heights. At h / b = 3 the FE model of this scene agrees with it to the
-    accuracy measured in tests/test_gallery.py.
+    finite heights. efgkit's FEM of this scene (P2, quarter-point tips, h = 0.1 b, tip h =
+    0.005 b) gives 1.48722 at alpha = 0.5, h / b = 3: 0.034 % above the fit.
     """
     a_over_b, h = _ratio("a_over_b", a_over_b, 0, 1), _ratio("h_over_b", h_over_b, 0, 1e6) * b
     a = a_over_b * b
@@ -87,7 +87,9 @@ def sent(a_over_w: float = 0.5, h_over_w: float = 2.0, w: float = 1.0, sigma: fl
         K_I = sigma sqrt(pi a) sqrt(2 / (pi alpha) tan(pi alpha / 2))
               [0.752 + 2.02 alpha + 0.37 (1 - sin(pi alpha / 2))^3] / cos(pi alpha / 2)
 
-    better than 0.5 % for any alpha in a long strip (h >> w).
+    better than 0.5 % for any alpha in a long strip (h >> w). efgkit's FEM (P2, quarter-point
+    tip, h = 0.1 w, tip h = 0.005 w) gives 3.5396 at alpha = 0.5 and h / w = 2 and 4 alike,
+    0.085 % below the fit's 3.5426.
 
     ``ends="clamped"``: both ends gripped (u_x = 0) and pulled apart, u_y = +-sigma h / E
     on top and bottom (the nominal stress sigma of a strip without crack); K is then
@@ -113,12 +115,13 @@ def dent(a_over_b: float = 0.5, h_over_b: float = 3.0, b: float = 1.0, sigma: fl
     """Double-edge-notched tension plate: ``[-b, b] x [-h, h]``, cracks ``"left"`` from
     ``(-b, 0)`` to ``(-b + a, 0)`` and ``"right"`` from ``(b, 0)`` to ``(b - a, 0)``,
     traction ``(0, +-sigma)`` on top and bottom, pin at ``(-b, -h)``, roller u_y = 0 at
-    ``(b, -h)``. Reference (Tada p. 2.6), alpha = a / b::
+    ``(b, -h)``. Reference (Benthem & Koiter 1973, in Tada p. 2.6), alpha = a / b::
 
-        K_I = sigma sqrt(pi a) (1.122 - 0.561 alpha - 0.205 alpha^2 + 0.471 alpha^3
-              - 0.190 alpha^4) / sqrt(1 - alpha)
+        K_I = sigma sqrt(pi a) (1 + 0.122 cos^4(pi alpha / 2)) sqrt(2 / (pi alpha) tan(pi alpha / 2))
 
-    better than 0.5 % for any alpha in a long strip.
+    stated accurate to 0.5 % for any alpha in a long strip. efgkit's FEM (P2, quarter-point
+    tips, h = 0.1 b, tip h = 0.0025 b, h/b = 3 and 6 alike) gives 1.4654 at alpha = 0.5,
+    0.55 % above the formula's 1.4573.
     """
     a_over_b, h = _ratio("a_over_b", a_over_b, 0, 1), _ratio("h_over_b", h_over_b, 0, 1e6) * b
     a = a_over_b * b
@@ -244,8 +247,10 @@ def reference_k(specimen: str, **params) -> dict:
         return _ref(sigma * math.sqrt(math.pi * al * b) * F, 0.0, None, "Tada p. 2.2", 1e-3)
     if specimen == "dent":
         al, b = float(params.get("a_over_b", 0.5)), float(params.get("b", 1.0))
-        F = (1.122 - 0.561 * al - 0.205 * al**2 + 0.471 * al**3 - 0.190 * al**4) / math.sqrt(1 - al)
-        return _ref(sigma * math.sqrt(math.pi * al * b) * F, 0.0, None, "Tada p. 2.6", 5e-3)
+        c = math.pi * al / 2
+        F = (1 + 0.122 * math.cos(c) ** 4) * math.sqrt(math.tan(c) / c)
+        return _ref(sigma * math.sqrt(math.pi * al * b) * F, 0.0, None,
+                    "Benthem & Koiter (1973), Tada p. 2.6", 5e-3)
     if specimen == "sent":
         if params.get("ends", "free") != "free":
             raise ValueError("reference_k: the SENT with clamped ends has no closed form; give "

@@ -13,7 +13,7 @@ import numpy as np
 from scipy.sparse import csr_array
 
 from .meshless_solution import MeshlessSolution
-from .methods.boundary import eliminated_dofs, essential_conditions, loads
+from .methods.boundary import eliminated_dofs, essential_conditions, loads, point_springs
 from .methods.discretize import Discretization, discretize
 from .methods.efg import EFG
 from .problem.scene import Scene
@@ -106,7 +106,8 @@ def solve(scene: Scene, method: EFG, disc: Discretization | None = None) -> Mesh
     h = m.spacing
     if m.bc == "modified_mls":
         dofs, vals = eliminated_dofs(disc)
-        system = eliminate(K, f, dofs, vals, disc.nodes.x)
+        springs = point_springs(disc, (m.penalty or DEFAULT_PENALTY) * mat.E)  # point supports
+        system = eliminate(K, f, dofs, vals, disc.nodes.x, springs)
     else:
         bc = essential_conditions(disc, derivatives=m.bc == "variational")
         if m.bc == "penalty":
@@ -123,6 +124,7 @@ def solve(scene: Scene, method: EFG, disc: Discretization | None = None) -> Mesh
     z, info = linear_solve(system, m.solver, near_nullspace=modes,
                                 auxiliary=lambda: auxiliary_space(disc), stiffness=K)
     timings["solve"] = time.perf_counter() - t0
+    forces = system.support_forces(z) if system.support_forces is not None else None
     timings["total"] = time.perf_counter() - t_all + sum(disc.timings.values())
     return MeshlessSolution(disc, system.coefficients(z), info, timings,
-                            resolve=lambda coarse: solve(scene, coarse))
+                            resolve=lambda coarse: solve(scene, coarse), support_forces=forces)

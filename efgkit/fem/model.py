@@ -197,6 +197,16 @@ def _essential(scene, mesh, fmap, sbasis):
             if v is not None and len(dofs):
                 val[2 * dofs + c] = evaluate_component(v, x, c, scene.material)
                 fixed[2 * dofs + c] = True
+    for p in scene.point_supports:  # the DOFs of the mesh node at the point
+        dist = np.linalg.norm(sbasis.doflocs.T - np.asarray(p.x), axis=1)
+        k = int(np.argmin(dist))
+        if dist[k] > 1e-9 * mesh.domain.size:
+            raise ValueError(f"point support at {list(p.x)}: the mesh has no node there (nearest "
+                             f"{dist[k]:.3g} away); put the point at a vertex of the domain, or add "
+                             "it to FEM.refine, which makes it a mesh vertex")
+        for c in (0, 1):
+            if p.fixed[c]:
+                val[2 * k + c], fixed[2 * k + c] = p.values[c], True
     D = np.flatnonzero(fixed)
     R = _rigid_modes(sbasis.doflocs.T)
     if len(D) == 0:

@@ -12,7 +12,7 @@ from .crack import Crack, Tip
 from .exact.fields import Field
 from .geometry import Domain, Edge, Loop
 from .material import Elastic
-from .scene import Scene, Support, Traction
+from .scene import PointSupport, Scene, Support, Traction
 
-__all__ = ["Crack", "Domain", "Edge", "Elastic", "Field", "Loop", "Scene", "Support", "Tip",
+__all__ = ["Crack", "Domain", "Edge", "Elastic", "Field", "Loop", "PointSupport", "Scene", "Support", "Tip",
            "Traction"]

@@ -19,8 +19,8 @@ from .exact.fields import Field
 from .geometry import COORDINATE_LIMIT, Domain
 from .material import Elastic
 
-__all__ = ["MIN_CRACK_LENGTH", "VALUE_LIMIT", "Scene", "Support", "Traction", "evaluate_vector",
-           "evaluate_component"]
+__all__ = ["MIN_CRACK_LENGTH", "VALUE_LIMIT", "PointSupport", "Scene", "Support", "Traction",
+           "evaluate_vector", "evaluate_component"]
 
 Where = str | Callable  # edge name or x (n, 2) -> bool mask (n,)
 
@@ -72,6 +72,58 @@ class Support:
 
 
 @dataclass(frozen=True)
+class PointSupport:
+    """Prescribed displacement components at one point: a pin (``ux`` and ``uy``) or a
+    roller (one of them), e.g. to remove the rigid-body motions of a traction-loaded body.
+
+    The solvers collocate the displacement at ``x``: EFG by a multiplier row (bc="lagrange")
+    or a spring of stiffness ``penalty * E`` (the other bc methods), FEM by fixing the DOFs of
+    the mesh vertex placed at ``x``. Where the loads are in equilibrium the support carries
+    no force, so the spring and the row give the same field.
+
+    Parameters
+    ----------
+    x : (2,) float
+        The point (inside the body or on its boundary, e.g. a vertex).
+    ux, uy : float or None
+        Prescribed component (None: free).
+
+    Examples
+    --------
+    >>> PointSupport((0.0, 0.0), ux=0.0, uy=0.0).fixed
+    (True, True)
+    """
+
+    x: tuple[float, float]
+    ux: float | None = None
+    uy: float | None = None
+
+    def __post_init__(self):
+        x = np.asarray(self.x, dtype=float)
+        if x.shape != (2,) or not np.all(np.isfinite(x)):
+            raise ValueError(f"point support: x must be a finite point (x0, y0), got {self.x!r}")
+        object.__setattr__(self, "x", (float(x[0]), float(x[1])))
+        if self.ux is None and self.uy is None:
+            raise ValueError(f"point support at {self.x}: prescribes nothing; give ux and/or uy")
+        for key in ("ux", "uy"):
+            v = getattr(self, key)
+            if v is not None and (callable(v) or isinstance(v, Field)):
+                raise TypeError(f"point support at {self.x}: {key} must be a float, got "
+                                f"{type(v).__name__}")
+            _check_value(f"point support at {self.x}: {key}", v, vector=False)
+
+    @property
+    def fixed(self) -> tuple[bool, bool]:
+        """Which components are prescribed."""
+        return (self.ux is not None, self.uy is not None)
+
+    @property
+    def values(self) -> tuple[float, float]:
+        """Prescribed values (0 where free)."""
+        return (float(self.ux or 0.0), float(self.uy or 0.0))
+
+
+@dataclass(frozen=True)
 class Traction:
     """Surface traction ``t (n, 2)`` on an edge (force per length).
 
@@ -109,14 +161,16 @@ class Scene:
     exact: Field | None = None
     name: str = "scene"
     duration: float | None = None  # None: static
+    point_supports: tuple[PointSupport, ...] = ()
 
     def __post_init__(self):
         if not isinstance(self.domain, Domain):
             raise TypeError(f"domain must be a Domain, got {type(self.domain).__name__}")
         if not isinstance(self.material, Elastic):
             raise TypeError(f"material must be an Elastic, got {type(self.material).__name__}")
-        for attr in ("supports", "tractions", "cracks"):
+        for attr in ("supports", "tractions", "cracks", "point_supports"):
             object.__setattr__(self, attr, tuple(getattr(self, attr)))
+        _check_points(self.point_supports, self.domain)
         names = self.domain.edge_names
         for kind, items in (("support", self.supports), ("traction", self.tractions)):
             for it in items:
@@ -147,6 +201,17 @@ class Scene:
     def with_supports(self, supports) -> Scene:
         """A copy with ``supports`` replaced."""
         return replace(self, supports=tuple(supports))
+
+
+def _check_points(points, domain: Domain) -> None:
+    """Point supports are PointSupport objects at points of the closed body."""
+    for p in points:
+        if not isinstance(p, PointSupport):
+            raise TypeError(f"point_supports must hold PointSupport objects, got {type(p).__name__}")
+        x = np.array([p.x])
+        if not domain.contains(x)[0] and domain.distance_to_boundary(x)[0] > 1e-9 * domain.size:
+            raise ValueError(f"point support at {list(p.x)} lies outside the domain; put it inside "
+                             "the body or on its boundary (e.g. at a vertex)")
 
 
 def _check_cracks(cracks, domain: Domain) -> None:
