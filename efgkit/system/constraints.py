@@ -156,7 +156,7 @@ def check_rigid_modes(C: csr_array, node_x: np.ndarray) -> None:
     R /= np.linalg.norm(R, axis=0)
     sv = np.linalg.svd(C @ R, compute_uv=False)
     names = ["translation in x", "translation in y", "rotation"]
-    if sv[-1] < 1e-8 * sv[0]:
+    if len(sv) < 3 or sv[-1] < 1e-8 * sv[0]:  # fewer than 3 constraints (one point) never suffice
         _, _, vt = np.linalg.svd(C @ R)
         free = names[int(np.argmax(np.abs(vt[-1])))]
         raise RigidBodyModeError(
