@@ -31,6 +31,7 @@ from .problem.exact.inclined import inclined_field
 from .problem.geometry import Domain, Loop
 from .problem.material import Elastic
 from .problem.scene import PointSupport, Scene, Support, Traction
+from .problem.symmetry import Symmetry
 
 __all__ = ["SPECIMENS", "cct", "dent", "inclined", "kirsch", "reference_k", "sent", "sent_seed001",
            "shear_edge_crack", "singular_patch"]
@@ -54,10 +55,15 @@ def _held(corner_pin, corner_roller, roller: str) -> tuple[PointSupport, ...]:
 
 
 def cct(a_over_b: float = 0.5, h_over_b: float = 3.0, b: float = 1.0, sigma: float = 1.0,
-        material: Elastic = PLANE_STRAIN, name: str = "cct") -> Scene:
+        material: Elastic = PLANE_STRAIN, name: str = "cct", model: str = "full") -> Scene:
     """Centre-cracked tension plate: ``[-b, b] x [-h, h]``, crack ``|x| <= a`` on y = 0
     (tips at both ends), traction ``(0, +-sigma)`` on top and bottom, a pin at
     ``(-b, -h)`` and a roller (u_y = 0) at ``(b, -h)``.
+
+    ``model="half"``: the part y >= 0, the crack face ``|x| < a`` free, the ligaments
+    u_y = 0, a roller u_x = 0 at ``(-b, 0)``; ``model="quarter"``: the part x, y >= 0, the
+    face free, u_y = 0 on the ligament and u_x = 0 on x = 0 (:class:`~efgkit.problem.symmetry.
+    Symmetry`; the modelled tips are (+-a, 0) and (a, 0)).
 
     Reference (Tada p. 2.1-2.2, Feddersen's secant corrected), alpha = a / b::
 
@@ -69,10 +75,26 @@ def cct(a_over_b: float = 0.5, h_over_b: float = 3.0, b: float = 1.0, sigma: flo
     """
     a_over_b, h = _ratio("a_over_b", a_over_b, 0, 1), _ratio("h_over_b", h_over_b, 0, 1e6) * b
     a = a_over_b * b
-    return Scene(Domain.rectangle(-b, -h, b, h), material,
-                 tractions=(Traction("top", (0.0, sigma)), Traction("bottom", (0.0, -sigma))),
-                 cracks=(Crack([[-a, 0.0], [a, 0.0]], tips=(True, True), name="crack"),),
-                 point_supports=_held((-b, -h), (b, -h), "uy"), name=name)
+    crack = Crack([[-a, 0.0], [a, 0.0]], tips=(True, True), name="crack")
+    if model == "full":
+        return Scene(Domain.rectangle(-b, -h, b, h), material,
+                     tractions=(Traction("top", (0.0, sigma)), Traction("bottom", (0.0, -sigma))),
+                     cracks=(crack,), point_supports=_held((-b, -h), (b, -h), "uy"), name=name)
+    on_x = ((0.0, 0.0), (0.0, 1.0))  # the crack line y = 0
+    if model == "half":
+        dom = Domain(Loop.polygon([[-b, 0], [-a, 0], [a, 0], [b, 0], [b, h], [-b, h]],
+                                  ["ligament", "face", "ligament", "right", "top", "left"]))
+        return Scene(dom, material, supports=(Support("ligament", uy=0.0),),
+                     tractions=(Traction("top", (0.0, sigma)),),
+                     point_supports=(PointSupport((-b, 0.0), ux=0.0),),
+                     symmetry=Symmetry((on_x,), (crack,)), name=name)
+    if model == "quarter":
+        dom = Domain(Loop.polygon([[0, 0], [a, 0], [b, 0], [b, h], [0, h]],
+                                  ["face", "ligament", "right", "top", "left"]))
+        return Scene(dom, material, supports=(Support("ligament", uy=0.0), Support("left", ux=0.0)),
+                     tractions=(Traction("top", (0.0, sigma)),),
+                     symmetry=Symmetry((on_x, ((0.0, 0.0), (1.0, 0.0))), (crack,)), name=name)
+    raise ValueError(f"model must be 'full', 'half' or 'quarter', got {model!r}")
 
 
 def sent(a_over_w: float = 0.5, h_over_w: float = 2.0, w: float = 1.0, sigma: float = 1.0,
@@ -204,7 +226,7 @@ def shear_edge_crack(name: str = "shear_edge_crack") -> Scene:
 
 
 def sent_seed001(a: float = 5.0, material: Elastic = SENT_MATERIAL,
-                 name: str = "SENT") -> Scene:
+                 name: str = "SENT", model: str = "full") -> Scene:
     """The clamped SENT of seed 001 Sect. 4 (units N, mm, MPa): 50 mm long (x), W = 10 mm
     wide (y), edge crack from the mouth (25, 0) to the tip (25, a), a/W = 0.5; both ends
     clamped (u_y = 0) and pulled apart by u_x = -/+ 0.0253882 mm; E = 210 GPa, nu = 0.3,
@@ -212,9 +234,19 @@ def sent_seed001(a: float = 5.0, material: Elastic = SENT_MATERIAL,
     this is the J of the ends free to contract, see docs/verification.md ``sent``);
     efgkit's converged FEM for this scene: J = 6.8707 N/mm, K_I = 1259.19 MPa mm^0.5,
     reaction 1732.33 N/mm. No closed form.
+
+    ``model="half"``: the part x >= L/2, the crack face free, u_x = 0 on the ligament
+    (:class:`~efgkit.problem.symmetry.Symmetry` about x = L/2).
     """
     L, W, D = 50.0, 10.0, 0.0253882
     crack = Crack([[L / 2, 0.0], [L / 2, a]], tips=(False, True), name="crack")
+    if model == "half":
+        dom = Domain(Loop.polygon([[L / 2, 0], [L, 0], [L, W], [L / 2, W], [L / 2, a]],
+                                  ["bottom", "right", "top", "ligament", "face"]))
+        return Scene(dom, material, supports=(Support("ligament", ux=0.0), Support("right", ux=D, uy=0.0)),
+                     symmetry=Symmetry((((L / 2, 0.0), (1.0, 0.0)),), (crack,)), name=name)
+    if model != "full":
+        raise ValueError(f"model must be 'full' or 'half', got {model!r}")
     return Scene(Domain.rectangle(0.0, 0.0, L, W), material,
                  supports=(Support("left", ux=-D, uy=0.0), Support("right", ux=D, uy=0.0)),
                  cracks=(crack,), name=name)

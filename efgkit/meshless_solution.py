@@ -91,6 +91,12 @@ class MeshlessSolution(Solution):
         """Strain (xx, yy, xy engineering) at points ``x (n, 2)``, shape (n, 3)."""
         return self._fields(x, derivatives=True).strain(self.coeffs)
 
+    def quadrature_fields(self):
+        """``(x (n, 2), w (n,), stress (n, 3), grad_u (n, 2, 2))`` at the domain quadrature points."""
+        grad = self.gradient()
+        return (self.disc.points.x, self.disc.points.w,
+                strain_from_gradient(grad) @ self.scene.material.D.T, grad)
+
     def tip_spacing(self, tip) -> float:
         """The nodal spacing at a tip: c_I = d_mI / d_max of the node nearest to it."""
         nodes = self.nodes

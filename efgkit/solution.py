@@ -151,7 +151,7 @@ class Solution(ABC):
         -------
         tuple of TipResult, one per tip of ``scene.tips``.
         """
-        results = self._sifs(radii, q, spread_tol)
+        results = self._sifs(radii, q, spread_tol) + self._symmetric_sifs(radii, q, spread_tol)
         if not error or not results:
             return results
         return self._with_errors(results, q, spread_tol)
@@ -159,6 +159,18 @@ class Solution(ABC):
     @abstractmethod
     def _sifs(self, radii, q, spread_tol) -> tuple:
         """The TipResults of every tip without the error estimate (see :meth:`sifs`)."""
+
+    def _symmetric_sifs(self, radii, q, spread_tol) -> tuple:
+        """The TipResults of the modelled tips of a half or quarter model (``scene.symmetry``):
+        :func:`efgkit.fracture.symmetric.symmetric_tip_results` over :meth:`quadrature_fields`."""
+        if self.scene.symmetry is None:
+            return ()
+        from .fracture.symmetric import symmetric_tip_results
+
+        def spacing(tip):
+            return self.tip_spacing(tip) if hasattr(self, "tip_spacing") else self.method.h
+        return symmetric_tip_results(self.scene, *self.quadrature_fields(), spacing, radii, q,
+                                     spread_tol)
 
     @property
     def sif_rate(self) -> float:
@@ -196,6 +208,7 @@ class Solution(ABC):
                 warnings.simplefilter("ignore")
                 companion = self.coarse_companion()
                 coarse = None if companion is None else companion._sifs(
+                    lambda tip: radii[tip.id], q, math.inf) + companion._symmetric_sifs(
                     lambda tip: radii[tip.id], q, math.inf)
         except (ValueError, ArithmeticError, RuntimeError) as err:
             note = (f"no error estimate: the solve at twice the spacing failed ({err}); the "

@@ -302,6 +302,9 @@ def solve_fem(scene: Scene, fem: FEM) -> FEMSolution:
     if not scene.is_static:
         raise ValueError(f"solve_fem solves static scenes; scene {scene.name!r} has duration "
                          f"{scene.duration!r}: give duration=None")
+    if scene.symmetry is not None:  # grade toward the modelled tips of a half or quarter model
+        tips = tuple(tuple(map(float, t.x)) for t in scene.symmetry.modelled_tips(scene.domain))
+        fem = replace(fem, refine=fem.refine + tuple(t for t in tips if t not in fem.refine))
     fem = fem.for_scene(scene)  # tip grading and quarter points where there are tips
     t = {"start": time.perf_counter()}
     mesh = mesh_scene(scene, fem.h, fem.tip_h, fem.grading, fem.min_angle, fem.tip_fan, fem.refine)

@@ -18,6 +18,7 @@ from .crack import Crack
 from .exact.fields import Field
 from .geometry import COORDINATE_LIMIT, Domain
 from .material import Elastic
+from .symmetry import Symmetry, full_domain
 
 __all__ = ["MIN_CRACK_LENGTH", "VALUE_LIMIT", "PointSupport", "Scene", "Support", "Traction",
            "evaluate_vector", "evaluate_component"]
@@ -162,6 +163,7 @@ class Scene:
     name: str = "scene"
     duration: float | None = None  # None: static
     point_supports: tuple[PointSupport, ...] = ()
+    symmetry: Symmetry | None = None  # half and quarter models (efgkit.problem.symmetry)
 
     def __post_init__(self):
         if not isinstance(self.domain, Domain):
@@ -171,6 +173,13 @@ class Scene:
         for attr in ("supports", "tractions", "cracks", "point_supports"):
             object.__setattr__(self, attr, tuple(getattr(self, attr)))
         _check_points(self.point_supports, self.domain)
+        if self.symmetry is not None:
+            if not isinstance(self.symmetry, Symmetry):
+                raise TypeError(f"symmetry must be a Symmetry, got {type(self.symmetry).__name__}")
+            _check_cracks(self.symmetry.cracks, full_domain(self.domain, self.symmetry))
+            if not self.symmetry.modelled_tips(self.domain):
+                raise ValueError("symmetry: no tip of the symmetry cracks lies on the model's "
+                                 "boundary; the modelled tip is where the crack face meets the ligament")
         names = self.domain.edge_names
         for kind, items in (("support", self.supports), ("traction", self.tractions)):
             for it in items:
@@ -197,6 +206,14 @@ class Scene:
     def with_cracks(self, cracks) -> Scene:
         """A copy with ``cracks`` replaced."""
         return replace(self, cracks=tuple(cracks))
+
+    def full(self) -> Scene:
+        """The whole body of a half or quarter model (the domain glued to its mirror images,
+        with the symmetry cracks; material only, no loads): the scene of its SIFs."""
+        if self.symmetry is None:
+            return self
+        return Scene(full_domain(self.domain, self.symmetry), self.material,
+                     cracks=self.cracks + self.symmetry.cracks, name=self.name)
 
     def with_supports(self, supports) -> Scene:
         """A copy with ``supports`` replaced."""
