@@ -42,12 +42,11 @@ from pathlib import Path
 import numpy as np
 
 from .methods.efg import EFG, Rosette, Zone
+from .problem import PointSupport, Scene, Support, Symmetry, Traction
 from .problem.crack import Crack
 from .problem.exact.fields import Field
 from .problem.geometry import Domain, Loop
 from .problem.material import Elastic
-from .problem.scene import PointSupport, Scene, Support, Traction
-from .problem.symmetry import Symmetry
 
 try:
     import tomllib
@@ -264,18 +263,15 @@ _SCHEMA: dict[str, tuple[type, tuple[str, ...], dict[str, Callable | None]]] = {
     "": (Scene, ("material", "domain"), {
         "name": _str, "material": _one("material"), "domain": _one("domain"),
         "supports": _many("supports"), "tractions": _many("tractions"),
-        "body_force": _pair, "cracks": _many("cracks"), "exact": _field,
-        "duration": _num, "point_supports": _many("point_supports"), "symmetry": _one("symmetry"),
-        "efg": None}),
+        "body_force": _pair, "cracks": _many("cracks"), "exact": _field, "duration": _num,
+        "point_supports": _many("point_supports"), "symmetry": _one("symmetry"), "efg": None}),
     "material": (Elastic, ("E", "nu"), {"E": _num, "nu": _num, "plane": _str, "rho": _num}),
     "domain": (Domain, ("outer",), {"outer": _loop, "holes": _many("holes", _loop)}),
     "supports": (Support, ("edge",), {"edge": _str, "ux": _scalar, "uy": _scalar}),
     "tractions": (Traction, ("edge", "t"), {"edge": _str, "t": _vector}),
     "point_supports": (PointSupport, ("x",), {"x": _pair, "ux": _num, "uy": _num}),
-    "symmetry": (Symmetry, ("lines",), {"lines": lambda v, path: tuple(
-        (_pair(_list(ln, f"{path}[{i}]", 2)[0], f"{path}[{i}][0]"),
-         _pair(_list(ln, f"{path}[{i}]", 2)[1], f"{path}[{i}][1]")) for i, ln in enumerate(_list(v, path))),
-        "cracks": _many("cracks")}),
+    "symmetry": (Symmetry, ("lines",), {"cracks": _many("cracks"), "lines": lambda v, path: tuple(
+        tuple(map(tuple, _points(ln, f"{path}[{i}]"))) for i, ln in enumerate(_list(v, path)))}),
     "cracks": (Crack, ("vertices",), {"vertices": _points, "tips": _tips, "name": _str,
                                       "pressure": _num}),
     "zones": (Zone, ("centre", "radius", "spacing"),

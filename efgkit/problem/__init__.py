@@ -13,6 +13,7 @@ from .exact.fields import Field
 from .geometry import Domain, Edge, Loop
 from .material import Elastic
 from .scene import PointSupport, Scene, Support, Traction
+from .symmetry import Symmetry
 
-__all__ = ["Crack", "Domain", "Edge", "Elastic", "Field", "Loop", "PointSupport", "Scene", "Support", "Tip",
-           "Traction"]
+__all__ = ["Crack", "Domain", "Edge", "Elastic", "Field", "Loop", "PointSupport", "Scene", "Support",
+           "Symmetry", "Tip", "Traction"]

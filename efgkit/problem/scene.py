@@ -267,7 +267,8 @@ def _check_cracks(cracks, domain: Domain) -> None:
                 where = "on the domain boundary" if d <= tol else "outside the domain"
                 raise ValueError(
                     f"crack {c.name!r}: {what} {k} {v[k].tolist()} lies {where}; cracks must run "
-                    "inside the body (a crack along the boundary is just boundary)")
+                    "inside the body (a crack along the boundary is just boundary; a crack on the "
+                    "symmetry line of a half or quarter model goes in Scene(symmetry=Symmetry(...)))")
         # No segment may cross the boundary; a mouth touches it at its vertex only, so the
         # segment at a mouth is tested without its last 1e-7 of length.
         last = len(v) - 2
