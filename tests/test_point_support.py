@@ -104,3 +104,23 @@ def test_bad_point_support_in_scene():
         Scene(PLATE.domain, MAT, point_supports=(PointSupport((3.0, 0.0), ux=0.0),))
     with pytest.raises(TypeError, match="must hold PointSupport"):
         Scene(PLATE.domain, MAT, point_supports=(Support("left", ux=0.0),))
+
+
+@pytest.mark.parametrize("width, accepted", [(0.1, True), (0.02, False)])
+def test_short_support_segment_same_in_efg_and_fem(width, accepted):
+    # a stretch of the left edge holding no FE node (h = 0.25): EFG imposes it at the boundary
+    # Gauss points it holds, FEM on the facets with a Gauss point in it; both refuse a stretch
+    # holding none (it used to be a rigid-body error in FEM only)
+    seg = Support(lambda x: (x[:, 0] < 1e-9) & (np.abs(x[:, 1] - 0.55) <= width / 2), uy=0.0)
+    sc = Scene(PLATE.domain, MAT, supports=(Support("left", ux=0.0), seg), tractions=PLATE.tractions[:1])
+    runs = (lambda: solve(sc, EFG(spacing=0.25, bc="lagrange")), lambda: solve_fem(sc, FEM(0.25)))
+    if not accepted:
+        for run, match in zip(runs, ("selects none of the boundary quadrature points",
+                                     "selects no node and no boundary Gauss point"), strict=True):
+            with pytest.raises(ValueError, match=match):
+                run()
+        return
+    # u_y(2, 1) = -nu sigma (1 - 0.55) / E = -2.25e-4 for a support at y = 0.55; the stretch
+    # fixes u_y over its length (measured -2.14e-4 EFG, -1.88e-4 FEM)
+    for run in runs:
+        assert run().displacement(np.array([[2.0, 1.0]]))[0, 1] == pytest.approx(-2.25e-4, rel=0.25)

@@ -186,12 +186,32 @@ def _rigid_modes(x):
     return R / np.linalg.norm(R, axis=0)
 
 
+def _facets_touched(where, mesh, fmap, sbasis, order: int = 4):
+    """Boundary facets (scikit-fem numbering) with a Gauss point (``order`` per facet, as EFG's
+    boundary rules) in the mask ``where``."""
+    fac = fmap[mesh.facet_owner >= 0]
+    sk = sbasis.mesh
+    a, b = sk.p[:, sk.facets[0, fac]].T, sk.p[:, sk.facets[1, fac]].T
+    t = (np.polynomial.legendre.leggauss(order)[0] + 1) / 2
+    x = (a[:, None] + t[None, :, None] * (b - a)[:, None]).reshape(-1, 2)
+    return fac[np.asarray(where(x), dtype=bool).reshape(len(fac), order).any(axis=1)]
+
+
 def _essential(scene, mesh, fmap, sbasis):
     """Prescribed vector DOFs (k,) and values (k,); later supports override earlier ones."""
     val = np.zeros(2 * sbasis.N)
     fixed = np.zeros(2 * sbasis.N, dtype=bool)
     for s in scene.supports:
-        dofs, _ = dofs_where(s.edge, mesh, fmap, sbasis)
+        dofs, fac = dofs_where(s.edge, mesh, fmap, sbasis)
+        if callable(s.edge) and not len(dofs):  # a stretch holding no node: as EFG, which imposes
+            # it at the boundary Gauss points it holds, fix the facets with a Gauss point in it
+            fac = _facets_touched(s.edge, mesh, fmap, sbasis)
+            if not len(fac):
+                raise ValueError(
+                    f"support {s.edge!r} selects no node and no boundary Gauss point of the mesh: "
+                    "FEM imposes supports at nodes. Select a longer stretch of boundary, or use a "
+                    "PointSupport (a pin or roller at a vertex or a FEM.refine point)")
+            dofs = np.unique(sbasis.get_dofs(facets=fac).flatten())
         x = face_side(mesh, sbasis.doflocs[:, dofs].T, dofs)
         for c, v in ((0, s.ux), (1, s.uy)):
             if v is not None and len(dofs):
