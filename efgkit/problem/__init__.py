@@ -10,10 +10,11 @@ knows about nodes, points or matrices.
 
 from .crack import Crack, Tip
 from .exact.fields import Field
+from .expression import Expression, VectorExpression
 from .geometry import Domain, Edge, Loop
 from .material import Elastic
 from .scene import PointSupport, Scene, Support, Traction
 from .symmetry import Symmetry
 
-__all__ = ["Crack", "Domain", "Edge", "Elastic", "Field", "Loop", "PointSupport", "Scene", "Support",
-           "Symmetry", "Tip", "Traction"]
+__all__ = ["Crack", "Domain", "Edge", "Elastic", "Expression", "Field", "Loop", "PointSupport", "Scene",
+           "Support", "Symmetry", "Tip", "Traction", "VectorExpression"]
