@@ -22,7 +22,8 @@ from .system.auxiliary import AuxiliarySpace
 from .system.constraints import eliminate, lagrange, modified_variational, penalty, rigid_body_modes
 from .system.linalg import solve as linear_solve
 
-__all__ = ["DEFAULT_PENALTY", "DEFAULT_STABILISATION", "LOCKING_PENALTY", "auxiliary_space", "solve"]
+__all__ = ["DEFAULT_PENALTY", "DEFAULT_STABILISATION", "LOCKING_PENALTY", "auxiliary_space",
+           "constrained_system", "solve"]
 
 # beta h / E of the penalty method. Its consistency error falls like E / (beta h), but
 # beta -> infinity is a Lagrange method with one multiplier per boundary Gauss point,
@@ -45,6 +46,25 @@ def auxiliary_space(disc: Discretization) -> AuxiliarySpace:
     cracks = disc.scene.cracks
     cuts = np.concatenate([c.segments for c in cracks]) if cracks else None
     return AuxiliarySpace(x, phi, disc.scene.material.D, disc.scene.domain, cuts)
+
+
+def constrained_system(disc: Discretization, K, f: np.ndarray, method: EFG | None = None):
+    """``K c = f`` with the scene's essential conditions imposed by ``method.bc`` (default
+    ``disc.method``, as given by :meth:`EFG.for_scene`: ``bc`` not "auto"): the
+    :class:`~efgkit.system.constraints.LinearSystem` to solve."""
+    m, mat = method or disc.method, disc.scene.material
+    h = m.spacing
+    if m.bc == "modified_mls":
+        dofs, vals = eliminated_dofs(disc)
+        springs = point_springs(disc, (m.penalty or DEFAULT_PENALTY) * mat.E)  # point supports
+        return eliminate(K, f, dofs, vals, disc.nodes.x, springs)
+    bc = essential_conditions(disc, derivatives=m.bc == "variational")
+    if m.bc == "penalty":
+        return penalty(K, f, bc, (m.penalty or DEFAULT_PENALTY) * mat.E / h, disc.nodes.x)
+    if m.bc == "lagrange":
+        return lagrange(K, f, bc, disc.nodes.x)
+    beta = (m.penalty or DEFAULT_STABILISATION) * mat.E / h
+    return modified_variational(K, f, bc, mat.D, beta, disc.nodes.x)
 
 
 def solve(scene: Scene, method: EFG, disc: Discretization | None = None) -> MeshlessSolution:
@@ -103,20 +123,7 @@ def solve(scene: Scene, method: EFG, disc: Discretization | None = None) -> Mesh
     f = loads(disc)
     timings["loads"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    h = m.spacing
-    if m.bc == "modified_mls":
-        dofs, vals = eliminated_dofs(disc)
-        springs = point_springs(disc, (m.penalty or DEFAULT_PENALTY) * mat.E)  # point supports
-        system = eliminate(K, f, dofs, vals, disc.nodes.x, springs)
-    else:
-        bc = essential_conditions(disc, derivatives=m.bc == "variational")
-        if m.bc == "penalty":
-            system = penalty(K, f, bc, (m.penalty or DEFAULT_PENALTY) * mat.E / h, disc.nodes.x)
-        elif m.bc == "lagrange":
-            system = lagrange(K, f, bc, disc.nodes.x)
-        else:
-            beta = (m.penalty or DEFAULT_STABILISATION) * mat.E / h
-            system = modified_variational(K, f, bc, mat.D, beta, disc.nodes.x)
+    system = constrained_system(disc, K, f, m)
     timings["constraints"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     modes = np.zeros((disc.n_dofs, 3))
