@@ -7,7 +7,7 @@ from .fracture.sif import TipResult
 from .meshless_solution import MeshlessSolution
 from .methods import EFG, Rosette, Zone
 from .methods.discretize import discretize
-from .problem import Crack, Domain, Elastic, Field, Loop, PointSupport, Scene, Support, Traction
+from .problem import Crack, Domain, Elastic, Field, Loop, PointSupport, Pressure, Scene, Support, Traction
 from .scenefile import load_scene, load_study
 from .solution import Solution
 from .static import solve
@@ -19,6 +19,7 @@ except PackageNotFoundError:  # pragma: no cover - running from a source tree
 
 __all__ = [
     "Crack", "Domain", "EFG", "Elastic", "FEM", "FEMSolution", "Field", "Loop", "MeshlessSolution",
-    "PointSupport", "Rosette", "Scene", "Solution", "Support", "TipResult", "Traction", "Zone", "__version__",
+    "PointSupport", "Pressure", "Rosette", "Scene", "Solution", "Support", "TipResult", "Traction", "Zone",
+    "__version__",
     "discretize", "load_scene", "load_study", "solve", "solve_fem",
 ]

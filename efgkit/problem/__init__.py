@@ -13,8 +13,8 @@ from .exact.fields import Field
 from .expression import Expression, VectorExpression
 from .geometry import Domain, Edge, Loop
 from .material import Elastic
-from .scene import PointSupport, Scene, Support, Traction
+from .scene import PointSupport, Pressure, Scene, Support, Traction
 from .symmetry import Symmetry
 
-__all__ = ["Crack", "Domain", "Edge", "Elastic", "Expression", "Field", "Loop", "PointSupport", "Scene",
-           "Support", "Symmetry", "Tip", "Traction", "VectorExpression"]
+__all__ = ["Crack", "Domain", "Edge", "Elastic", "Expression", "Field", "Loop", "PointSupport", "Pressure",
+           "Scene", "Support", "Symmetry", "Tip", "Traction", "VectorExpression"]

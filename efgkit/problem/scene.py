@@ -20,7 +20,7 @@ from .geometry import COORDINATE_LIMIT, Domain
 from .material import Elastic
 from .symmetry import Symmetry, full_domain
 
-__all__ = ["MIN_CRACK_LENGTH", "VALUE_LIMIT", "PointSupport", "Scene", "Support", "Traction",
+__all__ = ["MIN_CRACK_LENGTH", "VALUE_LIMIT", "PointSupport", "Pressure", "Scene", "Support", "Traction",
            "evaluate_vector", "evaluate_component"]
 
 Where = str | Callable  # edge name or x (n, 2) -> bool mask (n,)
@@ -36,7 +36,7 @@ _RESCALE = "rescale the units (e.g. MPa and mm instead of Pa and m)"
 
 
 def _check_value(what: str, v, vector: bool) -> None:
-    if v is None or callable(v) or isinstance(v, Field):
+    if v is None or callable(v) or isinstance(v, (Field, Pressure)):
         return
     arr = np.asarray(v, dtype=float)
     if arr.shape != ((2,) if vector else ()):
@@ -125,6 +125,26 @@ class PointSupport:
 
 
 @dataclass(frozen=True)
+class Pressure:
+    """A pressure ``p`` on an edge, as the value of a :class:`Traction`: the traction
+    ``-p n`` with ``n`` the outward normal of the body, so ``p > 0`` pushes into the
+    material (a pressurised hole: ``Traction("hole", Pressure(1.0))``).
+
+    Examples
+    --------
+    >>> Traction("hole", Pressure(2.0)).t.p
+    2.0
+    """
+
+    p: float
+
+    def __post_init__(self):
+        if isinstance(self.p, bool) or not isinstance(self.p, (int, float)):
+            raise TypeError(f"pressure p must be a number, got {self.p!r}")
+        _check_value("pressure p", self.p, vector=False)
+
+
+@dataclass(frozen=True)
 class Traction:
     """Surface traction ``t (n, 2)`` on an edge (force per length).
 
@@ -189,6 +209,8 @@ class Scene:
                         f"its edges are {sorted(names)}"
                     )
         _check_cracks(self.cracks, self.domain)
+        if isinstance(self.body_force, Pressure):
+            raise TypeError("body_force cannot be a Pressure (it acts on edges): give (bx, by)")
         _check_value("body_force", self.body_force, vector=True)
         _check_scales(self)
         if self.duration is not None and not (math.isfinite(self.duration) and self.duration > 0):
@@ -307,7 +329,9 @@ def _check_scales(scene: Scene) -> None:
     lL, lE = math.log10(L), math.log10(E)
     found = []  # (log10 of the stress scale, its source), in logs: nothing overflows here
     for t in scene.tractions:
-        if not (callable(t.t) or isinstance(t.t, Field)):
+        if isinstance(t.t, Pressure):
+            found.append((abs(t.t.p), 0.0, f"traction on {t.edge!r}: pressure = {t.t.p!r}"))
+        elif not (callable(t.t) or isinstance(t.t, Field)):
             found.append((math.hypot(*map(float, t.t)), 0.0, f"traction on {t.edge!r}: t = {t.t!r}"))
     b = scene.body_force
     if b is not None and not (callable(b) or isinstance(b, Field)):
@@ -364,9 +388,12 @@ def _check_evaluated(what: str, out: np.ndarray) -> None:
 def evaluate_vector(value, x: np.ndarray, normal: np.ndarray, material: Elastic) -> np.ndarray:
     """Evaluate a traction / body-force value at ``x (n, 2)`` -> (n, 2).
 
-    ``normal (n, 2)`` is the outward unit normal, used by :class:`Field` values.
+    ``normal (n, 2)`` is the outward unit normal, used by :class:`Field` and
+    :class:`Pressure` values.
     """
-    if isinstance(value, Field):
+    if isinstance(value, Pressure):
+        out = -value.p * np.asarray(normal, dtype=float)
+    elif isinstance(value, Field):
         s = value.stress(x, material)
         out = np.column_stack([s[:, 0] * normal[:, 0] + s[:, 2] * normal[:, 1],
                                s[:, 2] * normal[:, 0] + s[:, 1] * normal[:, 1]])
