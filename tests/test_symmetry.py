@@ -110,3 +110,18 @@ def test_a_half_model_solves_and_supports():
         sol = solve_fem(sc, FEM(0.1, tip_h=0.01, quarter_point=False))
         res = sol.sifs(radii=(0.1, 0.15, 0.2), error=False)
     assert len(res) == 2 and res[0].KI > 0 and res[0].KI == pytest.approx(res[1].KI, rel=1e-3)
+
+
+def test_efg_defaults_grade_toward_the_modelled_tips():
+    # EFG(spacing) alone: graded zones at the boundary tips, multipliers; K_I against Tada's
+    # 1.48672 (p. 2.2, 0.1 %) for a/b = 0.5, h/b = 3: measured 1.4860 (-0.05 %) at h = b/10
+    from efgkit.gallery import reference_k
+
+    sc = cct(0.5, 3.0, model="half")
+    m = EFG(spacing=0.1).for_scene(sc)
+    assert m.bc == "lagrange" and len(m.zones) == 4 and m.enrichment == "none"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        res = solve(sc, EFG(spacing=0.1)).sifs(error=False)
+    for r in res:
+        assert abs(r.KI / reference_k("cct", a_over_b=0.5)["KI"] - 1) < 2e-3
