@@ -137,7 +137,7 @@ def dent(a_over_b: float = 0.5, h_over_b: float = 3.0, b: float = 1.0, sigma: fl
     """Double-edge-notched tension plate: ``[-b, b] x [-h, h]``, cracks ``"left"`` from
     ``(-b, 0)`` to ``(-b + a, 0)`` and ``"right"`` from ``(b, 0)`` to ``(b - a, 0)``,
     traction ``(0, +-sigma)`` on top and bottom, pin at ``(-b, -h)``, roller u_y = 0 at
-    ``(b, -h)``. Reference (Benthem & Koiter 1973, in Tada p. 2.6), alpha = a / b::
+    ``(b, -h)``. Reference (Tada p. 2.6, a fit to Benthem & Koiter's 1973 results), alpha = a / b::
 
         K_I = sigma sqrt(pi a) (1 + 0.122 cos^4(pi alpha / 2)) sqrt(2 / (pi alpha) tan(pi alpha / 2))
 
@@ -282,7 +282,7 @@ def reference_k(specimen: str, **params) -> dict:
         c = math.pi * al / 2
         F = (1 + 0.122 * math.cos(c) ** 4) * math.sqrt(math.tan(c) / c)
         return _ref(sigma * math.sqrt(math.pi * al * b) * F, 0.0, None,
-                    "Benthem & Koiter (1973), Tada p. 2.6", 5e-3)
+                    "Tada p. 2.6 (fit to Benthem & Koiter 1973)", 5e-3)
     if specimen == "sent":
         if params.get("ends", "free") != "free":
             raise ValueError("reference_k: the SENT with clamped ends has no closed form; give "
