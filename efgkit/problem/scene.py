@@ -18,6 +18,7 @@ from .crack import Crack
 from .exact.fields import Field
 from .geometry import COORDINATE_LIMIT, Domain
 from .material import Elastic
+from .supports import PointSupport, Pressure
 from .symmetry import Symmetry, full_domain
 
 __all__ = ["MIN_CRACK_LENGTH", "VALUE_LIMIT", "PointSupport", "Pressure", "Scene", "Support", "Traction",
@@ -70,78 +71,6 @@ class Support:
             raise ValueError(f"support on {self.edge!r} prescribes nothing: give ux and/or uy")
         _check_value(f"support on {self.edge!r}: ux", self.ux, vector=False)
         _check_value(f"support on {self.edge!r}: uy", self.uy, vector=False)
-
-
-@dataclass(frozen=True)
-class PointSupport:
-    """Prescribed displacement components at one point: a pin (``ux`` and ``uy``) or a
-    roller (one of them), e.g. to remove the rigid-body motions of a traction-loaded body.
-
-    The solvers collocate the displacement at ``x``: EFG by a multiplier row (bc="lagrange")
-    or a spring of stiffness ``penalty * E`` (the other bc methods), FEM by fixing the DOFs of
-    the mesh vertex placed at ``x``. Where the loads are in equilibrium the support carries
-    no force, so the spring and the row give the same field.
-
-    Parameters
-    ----------
-    x : (2,) float
-        The point (inside the body or on its boundary, e.g. a vertex).
-    ux, uy : float or None
-        Prescribed component (None: free).
-
-    Examples
-    --------
-    >>> PointSupport((0.0, 0.0), ux=0.0, uy=0.0).fixed
-    (True, True)
-    """
-
-    x: tuple[float, float]
-    ux: float | None = None
-    uy: float | None = None
-
-    def __post_init__(self):
-        x = np.asarray(self.x, dtype=float)
-        if x.shape != (2,) or not np.all(np.isfinite(x)):
-            raise ValueError(f"point support: x must be a finite point (x0, y0), got {self.x!r}")
-        object.__setattr__(self, "x", (float(x[0]), float(x[1])))
-        if self.ux is None and self.uy is None:
-            raise ValueError(f"point support at {self.x}: prescribes nothing; give ux and/or uy")
-        for key in ("ux", "uy"):
-            v = getattr(self, key)
-            if v is not None and (callable(v) or isinstance(v, Field)):
-                raise TypeError(f"point support at {self.x}: {key} must be a float, got "
-                                f"{type(v).__name__}")
-            _check_value(f"point support at {self.x}: {key}", v, vector=False)
-
-    @property
-    def fixed(self) -> tuple[bool, bool]:
-        """Which components are prescribed."""
-        return (self.ux is not None, self.uy is not None)
-
-    @property
-    def values(self) -> tuple[float, float]:
-        """Prescribed values (0 where free)."""
-        return (float(self.ux or 0.0), float(self.uy or 0.0))
-
-
-@dataclass(frozen=True)
-class Pressure:
-    """A pressure ``p`` on an edge, as the value of a :class:`Traction`: the traction
-    ``-p n`` with ``n`` the outward normal of the body, so ``p > 0`` pushes into the
-    material (a pressurised hole: ``Traction("hole", Pressure(1.0))``).
-
-    Examples
-    --------
-    >>> Traction("hole", Pressure(2.0)).t.p
-    2.0
-    """
-
-    p: float
-
-    def __post_init__(self):
-        if isinstance(self.p, bool) or not isinstance(self.p, (int, float)):
-            raise TypeError(f"pressure p must be a number, got {self.p!r}")
-        _check_value("pressure p", self.p, vector=False)
 
 
 @dataclass(frozen=True)
