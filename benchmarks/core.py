@@ -21,10 +21,11 @@ from pathlib import Path
 
 import numpy as np
 
-from efgkit import EFG, Crack, Domain, Elastic, Field, Scene, Support, Traction, solve
+from efgkit import EFG, Domain, Elastic, Scene, Support, Traction, solve
 from efgkit.approx.mls import mls_shape
 from efgkit.fracture.integrals import domain_integrals
 from efgkit.fracture.qfunctions import QFunction
+from efgkit.gallery import singular_patch
 from efgkit.io import write_json
 from efgkit.nodes import generate_nodes
 from efgkit.quadrature.cells import cell_points
@@ -102,10 +103,7 @@ def end_to_end(spacing: float) -> dict:
 def sif_integrals(n_side: int, repeat: int) -> dict:
     """Solution.sifs on an edge-cracked square (the singular patch of seed 003 with the Williams
     field by penalty) for 3 and 17 radii, against one pass over the points per domain."""
-    W = Field.named("williams", KI=1.0)
-    scene = Scene(Domain.rectangle(-1, -1, 1, 1), Elastic(1.0, 0.3),
-                  supports=tuple(Support(e, ux=W, uy=W) for e in ("left", "bottom", "right", "top")),
-                  cracks=(Crack([[-1.0, 0.0], [0.0, 0.0]], tips=(False, True)),))
+    scene = singular_patch(1.0, 0.0, material=Elastic(1.0, 0.3))  # efgkit.gallery
     sol = solve(scene, EFG(spacing=2.0 / (n_side - 1), bc="penalty", enrichment="none"))
     radii = {3: (0.3, 0.5, 0.7), 17: tuple(np.linspace(0.1, 0.9, 17))}
     out = {"n_nodes": sol.nodes.n, "n_points": sol.disc.points.n}

@@ -32,8 +32,9 @@ from pathlib import Path
 
 import numpy as np
 
-from efgkit import EFG, Crack, Domain, Elastic, Field, Rosette, Scene, Support, solve
+from efgkit import EFG, Rosette, Scene, solve
 from efgkit.fem.model import FEM, solve_fem
+from efgkit.gallery import sent_seed001, singular_patch
 from efgkit.io import write_json
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -50,18 +51,11 @@ VARIANTS = {  # EFG options beyond the spacing; Nitsche supports (bc="variationa
 
 
 def patch_scene() -> Scene:
-    f = Field.named("williams", KI=1.0)
-    return Scene(Domain.rectangle(-1, -1, 1, 1), Elastic(1.0, 0.3, "strain"),
-                 supports=tuple(Support(e, ux=f, uy=f) for e in ("left", "bottom", "right", "top")),
-                 cracks=(Crack([[-1.0, 0.0], [0.0, 0.0]], tips=(False, True), name="crack"),),
-                 name="singular patch")
+    return singular_patch(1.0, 0.0, name="singular patch")  # efgkit.gallery
 
 
 def sent_scene() -> Scene:
-    crack = Crack([[L / 2, 0.0], [L / 2, W / 2]], tips=(False, True), name="crack")
-    return Scene(Domain.rectangle(0.0, 0.0, L, W), Elastic(210e3, 0.3, "strain"),
-                 supports=(Support("left", ux=-D, uy=0.0), Support("right", ux=D, uy=0.0)),
-                 cracks=(crack,), name="SENT")
+    return sent_seed001()  # efgkit.gallery
 
 
 PROBLEMS = {  # scene, J-domain radii, EFG spacings (full, quick), FEM sizes (full, quick)

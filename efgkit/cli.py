@@ -210,7 +210,7 @@ def cmd_run(args) -> int:
         errors = sol.errors() if scene.exact is not None else None
         timings["post"] = time.perf_counter() - t0
     tips = ()
-    if scene.cracks:
+    if scene.cracks or scene.symmetry is not None:  # a half model: the modelled tips
         t0 = time.perf_counter()
         with warnings.catch_warnings(), _stage(  # each result carries its warnings
                 f"{path}: cannot compute the stress intensity factors",

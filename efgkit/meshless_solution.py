@@ -9,9 +9,19 @@ import numpy as np
 from .methods.discretize import Discretization, crack_mouths
 from .problem.crack import FACE_OFFSET
 from .problem.material import strain_from_gradient, voigt_tensor
-from .solution import Solution
+from .solution import Solution, resultant
 
 __all__ = ["MeshlessSolution"]
+
+
+def _on_edge(domain, name: str, x: np.ndarray, tol: float) -> np.ndarray:
+    """Mask (m,) of the points ``x (m, 2)`` within ``tol`` of the edges called ``name``."""
+    polys = [e.polyline() for e in domain.edges(name)]
+    a = np.concatenate([p[:-1] for p in polys])
+    ab = np.concatenate([p[1:] for p in polys]) - a
+    t = np.clip(np.einsum("mkj,kj->mk", x[:, None] - a[None], ab) / np.sum(ab * ab, -1), 0.0, 1.0)
+    d = np.linalg.norm(x[:, None] - a[None] - t[..., None] * ab[None], axis=-1)
+    return d.min(axis=1, initial=np.inf) <= tol
 
 
 @dataclass(frozen=True, eq=False)
@@ -39,6 +49,7 @@ class MeshlessSolution(Solution):
     info: dict = field(default_factory=dict)
     timings: dict = field(default_factory=dict)
     resolve: object = field(default=None, repr=False)  # method -> Solution of the same scene
+    support_forces: tuple | None = field(default=None, repr=False)  # (x (m, 2), force (m, 2))
 
     discretization_figure = "nodes"
 
@@ -79,6 +90,12 @@ class MeshlessSolution(Solution):
     def strain(self, x=None) -> np.ndarray:
         """Strain (xx, yy, xy engineering) at points ``x (n, 2)``, shape (n, 3)."""
         return self._fields(x, derivatives=True).strain(self.coeffs)
+
+    def quadrature_fields(self):
+        """``(x (n, 2), w (n,), stress (n, 3), grad_u (n, 2, 2))`` at the domain quadrature points."""
+        grad = self.gradient()
+        return (self.disc.points.x, self.disc.points.w,
+                strain_from_gradient(grad) @ self.scene.material.D.T, grad)
 
     def tip_spacing(self, tip) -> float:
         """The nodal spacing at a tip: c_I = d_mI / d_max of the node nearest to it."""
@@ -152,25 +169,43 @@ class MeshlessSolution(Solution):
         return field_errors(exact, self.scene, self.disc.points.x, self.disc.points.w,
                             self.displacement(), self.strain())
 
-    def reaction(self, edge) -> np.ndarray:
-        """Force ``(2,)`` the supports of ``edge`` apply to the body: ``int sigma n ds``.
+    def reaction(self, edge, about=None) -> np.ndarray:
+        """Force ``(2,)`` the supports of ``edge`` apply to the body, from the weak form; with
+        ``about=(x0, y0)`` ``(F_x, F_y, M)``, M the moment about that point.
 
-        The traction ``sigma n`` (outward normal) is integrated by the Gauss rule of the
-        essential conditions along the edge (name or mask ``x (n, 2) -> bool (n,)`` over
-        its boundary quadrature points), so it carries the discretisation error of the
-        boundary stresses.
+        The forces of the essential conditions at their points (``support_forces``, from
+        the solve: the multipliers with bc="lagrange", the penalty force with "penalty",
+        the consistent flux with "variational", ``K c - f`` on the eliminated rows with
+        "modified_mls"; docs/theory.md "Reactions") summed over the points on the edge
+        (a name: within 1e-9 of the domain size of it, so a point support at a vertex
+        counts for both edges; or a mask ``x (m, 2) -> bool (m,)``). Contracted with the
+        rigid-body motions, which the MLS functions reproduce, the reactions of all
+        supports balance the applied loads to rounding.
+
+        A solution without ``support_forces`` (from a driver that does not record them)
+        integrates ``sigma n`` along the edge instead, with the discretisation error of
+        the boundary stresses.
         """
-        from .quadrature.boundary import boundary_points
-
-        scene, m = self.scene, self.method
+        scene = self.scene
         if isinstance(edge, str) and edge not in scene.domain.edge_names:
             raise ValueError(f"no edge named {edge!r}; the domain's edges are "
                              f"{sorted(scene.domain.edge_names)}")
-        pts = boundary_points(scene.domain, edge, max(m.order, 2), m.spacing, crack_mouths(scene))
-        if pts.n == 0:
-            return np.zeros(2)
-        t = np.einsum("nij,nj->ni", voigt_tensor(self.stress(pts.x)), pts.normal)
-        return pts.w @ t
+        if self.support_forces is None:
+            from .quadrature.boundary import boundary_points
+
+            m = self.method
+            pts = boundary_points(scene.domain, edge, max(m.order, 2), m.spacing, crack_mouths(scene))
+            t = np.einsum("nij,nj->ni", voigt_tensor(self.stress(pts.x)), pts.normal).reshape(-1, 2)
+            return resultant(pts.x.reshape(-1, 2), pts.w[:, None] * t, about)
+        x, force = self.support_forces
+        if isinstance(edge, str):
+            sel = _on_edge(scene.domain, edge, x, 1e-9 * scene.domain.size)
+        else:
+            sel = np.asarray(edge(x))
+            if sel.shape != (len(x),) or sel.dtype != bool:
+                raise TypeError(f"an edge callable must map x (n, 2) to a bool mask (n,), got "
+                                f"{sel.dtype} array of shape {sel.shape}")
+        return resultant(x[sel], force[sel], about)
 
     def write_vtu(self, path, n_target: int | None = None):
         """Fields on :func:`~efgkit.io.sample_grid` (``n_target`` points, default 20 000) and

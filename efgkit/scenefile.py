@@ -42,12 +42,12 @@ from pathlib import Path
 import numpy as np
 
 from .methods.efg import EFG, Rosette, Zone
+from .problem import Expression, PointSupport, Scene, Support, Symmetry, Traction, VectorExpression
 from .problem.crack import Crack
 from .problem.exact.fields import Field
 from .problem.geometry import Domain, Loop
 from .problem.history import history_from_dict, with_time_table
 from .problem.material import Elastic
-from .problem.scene import Scene, Support, Traction
 
 try:
     import tomllib
@@ -173,12 +173,12 @@ def _field(d: dict, path: str) -> Field:
         return Field(name, params)
 
 
-def _scalar(v, path: str) -> float | Field:
-    return _field(v, path) if isinstance(v, dict) else _num(v, path)
+def _scalar(v, path: str) -> float | Field | Expression:
+    return _field(v, path) if isinstance(v, dict) else Expression(v) if isinstance(v, str) else _num(v, path)
 
 
-def _vector(v, path: str) -> tuple[float, float] | Field:
-    return _field(v, path) if isinstance(v, dict) else _floats(v, path, 2)
+def _vector(v, path: str) -> tuple[float, float] | Field | VectorExpression:
+    return _field(v, path) if isinstance(v, dict) else VectorExpression.read(v) or _floats(v, path, 2)
 
 
 # --- geometry ---------------------------------------------------------------------------
@@ -264,14 +264,17 @@ _SCHEMA: dict[str, tuple[type, tuple[str, ...], dict[str, Callable | None]]] = {
     "": (Scene, ("material", "domain"), {
         "name": _str, "material": _one("material"), "domain": _one("domain"),
         "supports": _many("supports"), "tractions": _many("tractions"),
-        "body_force": _pair, "cracks": _many("cracks"), "exact": _field,
-        "duration": _num, "efg": None, "time": None, "growth": None,
-        "body_force_history": history_from_dict, "initial_displacement": _vector,
-        "initial_velocity": _vector}),
+        "body_force": lambda v, path: VectorExpression.read(v) or _pair(v, path),
+        "cracks": _many("cracks"), "exact": _field, "duration": _num,
+        "point_supports": _many("point_supports"), "symmetry": _one("symmetry"), "efg": None,
+        "time": None, "growth": None, "body_force_history": history_from_dict,
+        "initial_displacement": _vector, "initial_velocity": _vector}),
     "material": (Elastic, ("E", "nu"), {"E": _num, "nu": _num, "plane": _str, "rho": _num}),
     "domain": (Domain, ("outer",), {"outer": _loop, "holes": _many("holes", _loop)}),
     "supports": (Support, ("edge",), {"edge": _str, "ux": _scalar, "uy": _scalar}),
     "tractions": (Traction, ("edge", "t"), {"edge": _str, "t": _vector, "history": history_from_dict}),
+    "point_supports": (PointSupport, ("x",), {"x": _pair, "ux": _num, "uy": _num}),
+    "symmetry": (Symmetry, ("lines",), {"lines": _list, "cracks": _many("cracks")}),
     "cracks": (Crack, ("vertices",), {"vertices": _points, "tips": _tips, "name": _str,
                                       "pressure": _num}),
     "zones": (Zone, ("centre", "radius", "spacing"),
@@ -386,7 +389,7 @@ def _out(v, path: str):
         return [_out(x, f"{path}[{i}]") for i, x in enumerate(v)]
     if isinstance(v, np.generic):
         return v.item()
-    if callable(v):
+    if callable(v) and not isinstance(v, str):  # an Expression is its formula
         raise TypeError(f"{path} is a Python callable; a scene file holds only numbers, "
                         "edge names and named fields ({ field = ... })")
     return v

@@ -14,6 +14,7 @@ scripts and user code never ask which method produced it:
 ``errors(exact)``      relative L2 and energy-norm errors against a closed form
 ``sifs(...)``          one :class:`~efgkit.fracture.sif.TipResult` per crack tip
 ``reaction(edge)``     (2,) force the supports of ``edge`` apply to the body
+                       (``about=(x0, y0)``: (3,) with the moment about that point)
 ``cmod(crack)``        crack-mouth opening of an edge crack
 ``write_vtu(path)``    fields for ParaView
 ``plot_stress(...)``   filled contours of a stress component (a figure)
@@ -40,7 +41,29 @@ import numpy as np
 from .problem.crack import FACE_OFFSET
 from .problem.material import strain_from_gradient
 
-__all__ = ["Solution", "method_record"]
+__all__ = ["Solution", "method_record", "resultant"]
+
+
+def resultant(x: np.ndarray, force: np.ndarray, about=None) -> np.ndarray:
+    """Sum of point forces ``force (m, 2)`` acting at ``x (m, 2)``: ``(F_x, F_y)``, or with
+    ``about = (x0, y0)`` ``(F_x, F_y, M)``, ``M = sum (x - x0) F_y - (y - y0) F_x``.
+
+    Examples
+    --------
+    >>> resultant(np.array([[1.0, 0.0]]), np.array([[0.0, 2.0]]), about=(0.0, 0.0)).tolist()
+    [0.0, 2.0, 2.0]
+    """
+    F = force.sum(axis=0)
+    if about is None:
+        return F
+    try:
+        p = np.asarray(about, dtype=float)
+    except (TypeError, ValueError) as err:
+        raise ValueError(f"about must be a point (x0, y0), got {about!r}") from err
+    if p.shape != (2,) or not np.all(np.isfinite(p)):
+        raise ValueError(f"about must be a finite point (x0, y0), got {about!r}")
+    d = x - p
+    return np.array([F[0], F[1], float(np.sum(d[:, 0] * force[:, 1] - d[:, 1] * force[:, 0]))])
 
 
 def method_record(method) -> dict:
@@ -128,7 +151,7 @@ class Solution(ABC):
         -------
         tuple of TipResult, one per tip of ``scene.tips``.
         """
-        results = self._sifs(radii, q, spread_tol)
+        results = self._sifs(radii, q, spread_tol) + self._symmetric_sifs(radii, q, spread_tol)
         if not error or not results:
             return results
         return self._with_errors(results, q, spread_tol)
@@ -136,6 +159,18 @@ class Solution(ABC):
     @abstractmethod
     def _sifs(self, radii, q, spread_tol) -> tuple:
         """The TipResults of every tip without the error estimate (see :meth:`sifs`)."""
+
+    def _symmetric_sifs(self, radii, q, spread_tol) -> tuple:
+        """The TipResults of the modelled tips of a half or quarter model (``scene.symmetry``):
+        :func:`efgkit.fracture.symmetric.symmetric_tip_results` over :meth:`quadrature_fields`."""
+        if self.scene.symmetry is None:
+            return ()
+        from .fracture.symmetric import symmetric_tip_results
+
+        def spacing(tip):
+            return self.tip_spacing(tip) if hasattr(self, "tip_spacing") else self.method.h
+        return symmetric_tip_results(self.scene, *self.quadrature_fields(), spacing, radii, q,
+                                     spread_tol)
 
     @property
     def sif_rate(self) -> float:
@@ -173,6 +208,7 @@ class Solution(ABC):
                 warnings.simplefilter("ignore")
                 companion = self.coarse_companion()
                 coarse = None if companion is None else companion._sifs(
+                    lambda tip: radii[tip.id], q, math.inf) + companion._symmetric_sifs(
                     lambda tip: radii[tip.id], q, math.inf)
         except (ValueError, ArithmeticError, RuntimeError) as err:
             note = (f"no error estimate: the solve at twice the spacing failed ({err}); the "
@@ -198,9 +234,10 @@ class Solution(ABC):
         return tuple(out)
 
     @abstractmethod
-    def reaction(self, edge) -> np.ndarray:
+    def reaction(self, edge, about=None) -> np.ndarray:
         """Force ``(2,)`` that the supports of ``edge`` (a name or a mask ``x -> bool``)
-        apply to the body."""
+        apply to the body; with ``about=(x0, y0)``, ``(F_x, F_y, M)`` with the moment
+        ``M`` about that point (counter-clockwise positive; :func:`resultant`)."""
 
     def cmod(self, crack) -> float:
         """Crack-mouth opening ``(u_left - u_right) . n`` at the mouth of an edge crack.

@@ -13,7 +13,14 @@ import numpy as np
 from scipy.sparse import csr_array
 
 from .meshless_solution import MeshlessSolution
-from .methods.boundary import collocation_rows, eliminated_dofs, essential_conditions, gamma_u_term, loads
+from .methods.boundary import (
+    collocation_rows,
+    eliminated_dofs,
+    essential_conditions,
+    gamma_u_term,
+    loads,
+    point_springs,
+)
 from .methods.discretize import Discretization, discretize
 from .methods.efg import EFG
 from .problem.scene import Scene
@@ -23,7 +30,8 @@ from .system.collocation import collocation
 from .system.constraints import eliminate, lagrange, modified_variational, penalty, rigid_body_modes
 from .system.linalg import solve as linear_solve
 
-__all__ = ["DEFAULT_PENALTY", "DEFAULT_STABILISATION", "LOCKING_PENALTY", "auxiliary_space", "solve"]
+__all__ = ["DEFAULT_PENALTY", "DEFAULT_STABILISATION", "LOCKING_PENALTY", "auxiliary_space",
+           "constrained_system", "solve"]
 
 # beta h / E of the penalty method. Its consistency error falls like E / (beta h), but
 # beta -> infinity is a Lagrange method with one multiplier per boundary Gauss point,
@@ -46,6 +54,34 @@ def auxiliary_space(disc: Discretization) -> AuxiliarySpace:
     cracks = disc.scene.cracks
     cuts = np.concatenate([c.segments for c in cracks]) if cracks else None
     return AuxiliarySpace(x, phi, disc.scene.material.D, disc.scene.domain, cuts)
+
+
+def constrained_system(disc: Discretization, K, f: np.ndarray, method: EFG | None = None):
+    """``K c = f`` with the scene's essential conditions imposed by ``method.bc`` (default
+    ``disc.method``, as given by :meth:`EFG.for_scene`: ``bc`` not "auto"): the
+    :class:`~efgkit.system.constraints.LinearSystem` to solve."""
+    m, mat = method or disc.method, disc.scene.material
+    h = m.spacing
+    if m.bc == "modified_mls":
+        dofs, vals = eliminated_dofs(disc)
+        springs = point_springs(disc, (m.penalty or DEFAULT_PENALTY) * mat.E)  # point supports
+        return eliminate(K, f, dofs, vals, disc.nodes.x, springs)
+    if m.bc == "collocation":  # Zhu and Atluri 1998: unsymmetric, solved by SuperLU
+        if disc.scene.point_supports:
+            raise ValueError(
+                f"bc='collocation' takes supports on edges only, but scene {disc.scene.name!r} has "
+                f"{len(disc.scene.point_supports)} point support(s): a point support is not a node "
+                "whose equation could be replaced. Use bc='lagrange' (or 'penalty', 'variational', "
+                "'modified_mls'), which impose point supports")
+        rows, vals, dofs = collocation_rows(disc)
+        return collocation(K - gamma_u_term(disc), f, rows, vals, dofs, disc.nodes.x)
+    bc = essential_conditions(disc, derivatives=m.bc == "variational")
+    if m.bc == "penalty":
+        return penalty(K, f, bc, (m.penalty or DEFAULT_PENALTY) * mat.E / h, disc.nodes.x)
+    if m.bc == "lagrange":
+        return lagrange(K, f, bc, disc.nodes.x)
+    beta = (m.penalty or DEFAULT_STABILISATION) * mat.E / h
+    return modified_variational(K, f, bc, mat.D, beta, disc.nodes.x)
 
 
 def solve(scene: Scene, method: EFG, disc: Discretization | None = None) -> MeshlessSolution:
@@ -106,22 +142,7 @@ def solve(scene: Scene, method: EFG, disc: Discretization | None = None) -> Mesh
     f = loads(disc)
     timings["loads"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    h = m.spacing
-    if m.bc == "modified_mls":
-        dofs, vals = eliminated_dofs(disc)
-        system = eliminate(K, f, dofs, vals, disc.nodes.x)
-    elif m.bc == "collocation":  # Zhu and Atluri 1998: unsymmetric, solved by SuperLU
-        rows, vals, dofs = collocation_rows(disc)
-        system = collocation(K - gamma_u_term(disc), f, rows, vals, dofs, disc.nodes.x)
-    else:
-        bc = essential_conditions(disc, derivatives=m.bc == "variational")
-        if m.bc == "penalty":
-            system = penalty(K, f, bc, (m.penalty or DEFAULT_PENALTY) * mat.E / h, disc.nodes.x)
-        elif m.bc == "lagrange":
-            system = lagrange(K, f, bc, disc.nodes.x)
-        else:
-            beta = (m.penalty or DEFAULT_STABILISATION) * mat.E / h
-            system = modified_variational(K, f, bc, mat.D, beta, disc.nodes.x)
+    system = constrained_system(disc, K, f, m)
     timings["constraints"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     modes = np.zeros((disc.n_dofs, 3))
@@ -129,6 +150,7 @@ def solve(scene: Scene, method: EFG, disc: Discretization | None = None) -> Mesh
     z, info = linear_solve(system, m.solver, near_nullspace=modes,
                                 auxiliary=lambda: auxiliary_space(disc), stiffness=K)
     timings["solve"] = time.perf_counter() - t0
+    forces = system.support_forces(z) if system.support_forces is not None else None
     timings["total"] = time.perf_counter() - t_all + sum(disc.timings.values())
     return MeshlessSolution(disc, system.coefficients(z), info, timings,
-                            resolve=lambda coarse: solve(scene, coarse))
+                            resolve=lambda coarse: solve(scene, coarse), support_forces=forces)

@@ -21,7 +21,7 @@ STAGES = [
      "methods.size"),
     ("io", "plot"),                                             # files and figures of results
     ("solution", "meshless_solution"),                          # the result contract
-    ("static", "explicit", "fem"),                              # drivers and the FE reference
+    ("static", "explicit", "fem", "loadcases"),                 # drivers and the FE reference
     ("growth",),                                                # step loops over the drivers
     ("study", "cli", "__main__", ""),                           # sweeps; the top
 ]

@@ -39,9 +39,10 @@ from pathlib import Path
 import numpy as np
 from _report import Report
 
-from efgkit import EFG, Crack, Domain, Elastic, Scene, Support, solve
+from efgkit import EFG, Elastic, Scene, solve
+from efgkit.gallery import inclined
 from efgkit.io import write_figure
-from efgkit.problem.exact.griffith import griffith_field
+from efgkit.problem.exact.inclined import inclined_field
 
 NAME = "inclined"
 TITLE = "Inclined Griffith crack: mixed mode, both tips, mirror and kink angle"
@@ -70,49 +71,10 @@ RULE_STUDY = {f"{basis}, {rule}": dict(extra, crack_rule=rule)
 TOL = {"pu": 5e-4, "extrinsic_mls": 2e-3}  # |K error| / (sigma sqrt(pi a)) at h = 0.05
 
 
-def mode_ii_field(x: np.ndarray, a: float, tau: float, mu: float, kappa: float):
-    """Westergaard's mode-II field of a crack |x| <= a, y = 0 under remote shear ``tau``.
-
-    ``Z = tau z / sqrt(z^2 - a^2)``, ``Zbar = tau sqrt(z^2 - a^2)``:
-    sigma_xx = 2 Im Z + y Re Z', sigma_yy = -y Re Z', sigma_xy = Re Z - y Im Z',
-    2 mu u_x = (kappa + 1)/2 Im Zbar + y Re Z, 2 mu u_y = -(kappa - 1)/2 Re Zbar - y Im Z
-    (Westergaard 1939; Anderson, Fracture Mechanics, 3rd ed., Appendix 2); K_II = tau sqrt(pi a).
-    The gradient is checked against finite differences and Hooke's law by ``field_check``.
-
-    Returns u (n, 2), grad_u (n, 2, 2) (``[:, i, j] = du_i/dx_j``), stress (n, 3).
-    """
-    z = x[:, 0] + 1j * x[:, 1]
-    root = np.sqrt(z - a) * np.sqrt(z + a)  # cut along [-a, a] only
-    Z, dZ, Zb = tau * z / root, -tau * a * a / root**3, tau * root
-    y = x[:, 1]
-    s = np.column_stack([2 * Z.imag + y * dZ.real, -y * dZ.real, Z.real - y * dZ.imag])
-    u = np.column_stack([(kappa + 1) / 2 * Zb.imag + y * Z.real,
-                         -(kappa - 1) / 2 * Zb.real - y * Z.imag]) / (2 * mu)
-    g = np.empty((len(x), 2, 2))
-    g[:, 0, 0] = (kappa + 1) / 2 * Z.imag + y * dZ.real
-    g[:, 0, 1] = (kappa + 3) / 2 * Z.real - y * dZ.imag
-    g[:, 1, 0] = -(kappa - 1) / 2 * Z.real - y * dZ.imag
-    g[:, 1, 1] = (kappa - 3) / 2 * Z.imag - y * dZ.real
-    return u, g / (2 * mu), s
-
-
 def exact_field(x: np.ndarray, beta: float):
-    """Displacement (n, 2), gradient (n, 2, 2) and stress (n, 3), global axes, at ``x (n, 2)``."""
-    c, s = math.cos(beta), math.sin(beta)
-    R = np.array([[c, s], [-s, c]])  # rows: the crack frame's axes
-    xl = x @ R.T
-    s11, s22, s12 = SIGMA * s * s, SIGMA * c * c, SIGMA * s * c
-    u1, g1, t1 = griffith_field(xl, A, s22, MAT.mu, MAT.kappa, "remote")
-    u2, g2, t2 = mode_ii_field(xl, A, s12, MAT.mu, MAT.kappa)
-    e = MAT.compliance() @ np.array([s11 - s22, 0.0, 0.0])  # the uniform stress along the crack
-    G3 = np.array([[e[0], e[2] / 2], [e[2] / 2, e[1]]])
-    u = u1 + u2 + xl @ G3.T
-    g = g1 + g2 + G3
-    t = t1 + t2 + np.array([s11 - s22, 0.0, 0.0])
-    S = np.stack([np.column_stack([t[:, 0], t[:, 2]]), np.column_stack([t[:, 2], t[:, 1]])], axis=1)
-    Sg = np.einsum("ki,nkl,lj->nij", R, S, R)
-    return u @ R, np.einsum("ki,nkl,lj->nij", R, g, R), np.column_stack([Sg[:, 0, 0], Sg[:, 1, 1],
-                                                                           Sg[:, 0, 1]])
+    """Displacement (n, 2), gradient (n, 2, 2) and stress (n, 3), global axes, at ``x (n, 2)``
+    (:func:`efgkit.problem.exact.inclined.inclined_field`)."""
+    return inclined_field(x, beta, A, SIGMA, MAT)
 
 
 def field_check(beta: float) -> dict:
@@ -155,12 +117,7 @@ def kink_angle(KI: float, KII: float) -> float:
 
 
 def scene(beta: float) -> Scene:
-    t = A * np.array([math.cos(beta), math.sin(beta)])
-    sup = tuple(Support(e, ux=lambda x: exact_field(x, beta)[0][:, 0],
-                        uy=lambda x: exact_field(x, beta)[0][:, 1])
-                for e in ("left", "bottom", "right", "top"))
-    return Scene(Domain.rectangle(-HALF, -HALF, HALF, HALF), MAT, supports=sup,
-                 cracks=(Crack([-t, t], tips=(True, True), name="crack"),), name=NAME)
+    return inclined(beta, A, HALF, SIGMA, MAT, NAME)  # efgkit.gallery
 
 
 def run(variant: str, deg: float, h: float, curve: list | None = None,

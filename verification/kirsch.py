@@ -12,8 +12,8 @@ from __future__ import annotations
 import numpy as np
 from _report import Report
 
-from efgkit import EFG, Domain, Elastic, Loop, Scene, Support, Traction, Zone
-from efgkit.problem.exact.fields import Field
+from efgkit import EFG, Elastic, Scene, Zone
+from efgkit.gallery import kirsch
 from efgkit.static import solve
 
 NAME = "kirsch"
@@ -21,14 +21,7 @@ A_HOLE, L_PLATE = 1.0, 5.0
 
 
 def scene() -> Scene:
-    f = Field.named("kirsch", a=A_HOLE, sigma=1.0)
-    outer = Loop([[A_HOLE, 0], [L_PLATE, 0], [L_PLATE, L_PLATE], [0, L_PLATE], [0, A_HOLE]],
-                 ("bottom", "right", "top", "left", "hole"),
-                 centres=[[np.nan, np.nan]] * 4 + [[0.0, 0.0]],
-                 sweeps=[0, 0, 0, 0, -np.pi / 2])
-    return Scene(Domain(outer), Elastic(3e7, 0.3, "strain"),
-                 supports=(Support("left", ux=0.0), Support("bottom", uy=0.0)),
-                 tractions=(Traction("right", f), Traction("top", f)), exact=f, name=NAME)
+    return kirsch(A_HOLE, L_PLATE, 1.0, Elastic(3e7, 0.3, "strain"), NAME)  # efgkit.gallery
 
 
 def method(h: float) -> EFG:

@@ -32,10 +32,11 @@ from pathlib import Path
 import numpy as np
 from _report import Report
 
-from efgkit import EFG, Crack, Domain, Elastic, Field, Loop, Scene, Support, solve
+from efgkit import EFG, Elastic, solve
 from efgkit.fracture.integrals import domain_integrals
 from efgkit.fracture.qfunctions import QFunction
 from efgkit.fracture.volumes import nodal_volumes
+from efgkit.gallery import sent_seed001, singular_patch
 from efgkit.io import write_figure
 
 NAME = "q_functions"
@@ -52,13 +53,7 @@ J_SENT_REF = 6.786  # N/mm = 6786 J/m^2, seed 001 Sect. 4.1 and Table 5 (Abaqus 
 
 def patch_problem(n: int):
     """Singular patch (split left edge, as in verification/singular_patch.py), extrinsic MLS."""
-    W = Field.named("williams", KI=1.0)
-    dom = Domain(Loop.polygon([[-1, -1], [1, -1], [1, 1], [-1, 1], [-1, 0]],
-                              ["bottom", "right", "top", "left", "left"]))
-    sc = Scene(dom, PATCH_MAT, supports=tuple(Support(e, ux=W, uy=W) for e in
-                                              ("left", "bottom", "right", "top")),
-               cracks=(Crack([[-1.0, 0.0], [0.0, 0.0]], tips=(False, True), name="crack"),),
-               name="singular_patch")
+    sc = singular_patch(1.0, 0.0, 1.0, PATCH_MAT, split_mouth=True)  # efgkit.gallery
     h = 2.0 / (n - 1)
     m = EFG(spacing=h, bc="lagrange", enrichment="extrinsic_mls", rule_power=1.0)
     return sc, m, h, 0.9, 1.0 / PATCH_MAT.E_prime  # exact J = K_I^2 / E'
@@ -66,10 +61,7 @@ def patch_problem(n: int):
 
 def sent_problem(h: float):
     """SENT of seed 001 Sect. 4 (mm, N, MPa), extrinsic PU."""
-    crack = Crack([[25.0, 0.0], [25.0, 5.0]], tips=(False, True), name="crack")
-    sc = Scene(Domain.rectangle(0.0, 0.0, 50.0, 10.0), SENT_MAT,
-               supports=(Support("left", ux=-SENT_DISP, uy=0.0), Support("right", ux=SENT_DISP, uy=0.0)),
-               cracks=(crack,), name="SENT")
+    sc = sent_seed001(5.0, SENT_MAT)  # efgkit.gallery (u_x = -/+ SENT_DISP at the ends)
     m = EFG(spacing=h, bc="lagrange", enrichment="pu", rule_power=1.0)
     return sc, m, h, 4.5, J_SENT_REF
 

@@ -29,12 +29,13 @@ from pathlib import Path
 import numpy as np
 from _report import Report
 
-from efgkit import EFG, Crack, Domain, Elastic, Loop, Rosette, Scene, Support, solve
+from efgkit import EFG, Domain, Elastic, Loop, Rosette, Scene, Support, solve
 from efgkit.fem.model import FEM, solve_fem
 from efgkit.fracture.integrals import contract, domain_integrands
 from efgkit.fracture.qfunctions import QFunction
 from efgkit.fracture.sif import tip_result
 from efgkit.fracture.volumes import nodal_volumes
+from efgkit.gallery import sent_seed001
 from efgkit.problem.material import strain_from_gradient
 
 NAME = "sent"
@@ -88,17 +89,15 @@ def scene(a: float = A, plane: str = "strain", modulus: float = E, nu: float = N
     """The SENT. ``grips="axial"`` prescribes only u_x at the ends, and u_y = 0 at the point
     (0, 0) (``pin = 0``; FEM) or on the piece |y - W/2| <= pin / 2 of the left end (EFG, whose
     supports are Gauss rules on edges: a point gets none)."""
-    crack = Crack([[L / 2, 0.0], [L / 2, a]], tips=(False, True), name="crack")
+    sc = sent_seed001(a, Elastic(modulus, nu, plane))  # efgkit.gallery: the clamped SENT
     if grips == "clamped":
-        sup = (Support("left", ux=-D, uy=0.0), Support("right", ux=D, uy=0.0))
-    else:
-        def where(x):
-            if pin == 0.0:
-                return np.hypot(x[:, 0], x[:, 1]) < 1e-9
-            return (x[:, 0] < 1e-9) & (np.abs(x[:, 1] - W / 2) <= pin / 2)
-        sup = (Support("left", ux=-D), Support("right", ux=D), Support(where, uy=0.0))
-    return Scene(Domain.rectangle(0.0, 0.0, L, W), Elastic(modulus, nu, plane), supports=sup,
-                 cracks=(crack,), name="SENT")
+        return sc
+
+    def where(x):
+        if pin == 0.0:
+            return np.hypot(x[:, 0], x[:, 1]) < 1e-9
+        return (x[:, 0] < 1e-9) & (np.abs(x[:, 1] - W / 2) <= pin / 2)
+    return sc.with_supports((Support("left", ux=-D), Support("right", ux=D), Support(where, uy=0.0)))
 
 
 def half_scene() -> Scene:

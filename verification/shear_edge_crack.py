@@ -24,8 +24,9 @@ from pathlib import Path
 import numpy as np
 from _report import Report
 
-from efgkit import EFG, FEM, Crack, Domain, Elastic, Scene, Support, Traction, solve, solve_fem
+from efgkit import EFG, FEM, Elastic, Scene, solve, solve_fem
 from efgkit.approx.mls import SingularMomentMatrix
+from efgkit.gallery import shear_edge_crack
 from efgkit.io import write_figure
 
 NAME = "shear_edge_crack"
@@ -72,9 +73,7 @@ FEM_REF = ((0.125, 0.01), (0.0625, 0.005))  # (h, tip_h) of the P2 quarter-point
 
 
 def scene() -> Scene:
-    crack = Crack([[0.0, L / 2], [A, L / 2]], tips=(False, True), name="crack")
-    return Scene(Domain.rectangle(0.0, 0.0, W, L), MAT, supports=(Support("bottom", ux=0.0, uy=0.0),),
-                 tractions=(Traction("top", (1.0, 0.0)),), cracks=(crack,), name=NAME)
+    return shear_edge_crack(NAME)  # efgkit.gallery
 
 
 def grid(nx: int, ny: int) -> np.ndarray:

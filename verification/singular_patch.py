@@ -23,7 +23,8 @@ from pathlib import Path
 import numpy as np
 from _report import Report
 
-from efgkit import EFG, Crack, Domain, Elastic, Field, Loop, Rosette, Scene, Support, discretize
+from efgkit import EFG, Domain, Elastic, Loop, Rosette, Scene, discretize
+from efgkit.gallery import singular_patch
 from efgkit.io import write_figure
 from efgkit.static import solve
 
@@ -93,10 +94,7 @@ def domain(split_mouth: bool = False) -> Domain:
 
 
 def scene(KI: float, KII: float, split_mouth: bool = False) -> Scene:
-    W = Field.named("williams", KI=KI, KII=KII)
-    sup = tuple(Support(e, ux=W, uy=W) for e in ("left", "bottom", "right", "top"))
-    crack = Crack([[-A, 0.0], [0.0, 0.0]], tips=(False, True), name="crack")
-    return Scene(domain(split_mouth), MAT, supports=sup, cracks=(crack,), exact=W, name=NAME)
+    return singular_patch(KI, KII, A, MAT, split_mouth, name=NAME)  # efgkit.gallery
 
 
 def method(variant: str, n: int, **override) -> EFG:

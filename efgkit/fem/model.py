@@ -186,17 +186,47 @@ def _rigid_modes(x):
     return R / np.linalg.norm(R, axis=0)
 
 
+def _facets_touched(where, mesh, fmap, sbasis, order: int = 4):
+    """Boundary facets (scikit-fem numbering) with a Gauss point (``order`` per facet, as EFG's
+    boundary rules) in the mask ``where``."""
+    fac = fmap[mesh.facet_owner >= 0]
+    sk = sbasis.mesh
+    a, b = sk.p[:, sk.facets[0, fac]].T, sk.p[:, sk.facets[1, fac]].T
+    t = (np.polynomial.legendre.leggauss(order)[0] + 1) / 2
+    x = (a[:, None] + t[None, :, None] * (b - a)[:, None]).reshape(-1, 2)
+    return fac[np.asarray(where(x), dtype=bool).reshape(len(fac), order).any(axis=1)]
+
+
 def _essential(scene, mesh, fmap, sbasis):
     """Prescribed vector DOFs (k,) and values (k,); later supports override earlier ones."""
     val = np.zeros(2 * sbasis.N)
     fixed = np.zeros(2 * sbasis.N, dtype=bool)
     for s in scene.supports:
-        dofs, _ = dofs_where(s.edge, mesh, fmap, sbasis)
+        dofs, fac = dofs_where(s.edge, mesh, fmap, sbasis)
+        if callable(s.edge) and not len(dofs):  # a stretch holding no node: as EFG, which imposes
+            # it at the boundary Gauss points it holds, fix the facets with a Gauss point in it
+            fac = _facets_touched(s.edge, mesh, fmap, sbasis)
+            if not len(fac):
+                raise ValueError(
+                    f"support {s.edge!r} selects no node and no boundary Gauss point of the mesh: "
+                    "FEM imposes supports at nodes. Select a longer stretch of boundary, or use a "
+                    "PointSupport (a pin or roller at a vertex or a FEM.refine point)")
+            dofs = np.unique(sbasis.get_dofs(facets=fac).flatten())
         x = face_side(mesh, sbasis.doflocs[:, dofs].T, dofs)
         for c, v in ((0, s.ux), (1, s.uy)):
             if v is not None and len(dofs):
                 val[2 * dofs + c] = evaluate_component(v, x, c, scene.material)
                 fixed[2 * dofs + c] = True
+    for p in scene.point_supports:  # the DOFs of the mesh node at the point
+        dist = np.linalg.norm(sbasis.doflocs.T - np.asarray(p.x), axis=1)
+        k = int(np.argmin(dist))
+        if dist[k] > 1e-9 * mesh.domain.size:
+            raise ValueError(f"point support at {list(p.x)}: the mesh has no node there (nearest "
+                             f"{dist[k]:.3g} away); put the point at a vertex of the domain, or add "
+                             "it to FEM.refine, which makes it a mesh vertex")
+        for c in (0, 1):
+            if p.fixed[c]:
+                val[2 * k + c], fixed[2 * k + c] = p.values[c], True
     D = np.flatnonzero(fixed)
     R = _rigid_modes(sbasis.doflocs.T)
     if len(D) == 0:
@@ -292,6 +322,9 @@ def solve_fem(scene: Scene, fem: FEM) -> FEMSolution:
     if not scene.is_static:
         raise ValueError(f"solve_fem solves static scenes; scene {scene.name!r} has duration "
                          f"{scene.duration!r}: give duration=None")
+    if scene.symmetry is not None:  # grade toward the modelled tips of a half or quarter model
+        tips = tuple(tuple(map(float, t.x)) for t in scene.symmetry.modelled_tips(scene.domain))
+        fem = replace(fem, refine=fem.refine + tuple(t for t in tips if t not in fem.refine))
     fem = fem.for_scene(scene)  # tip grading and quarter points where there are tips
     t = {"start": time.perf_counter()}
     mesh = mesh_scene(scene, fem.h, fem.tip_h, fem.grading, fem.min_angle, fem.tip_fan, fem.refine)

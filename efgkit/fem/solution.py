@@ -19,7 +19,7 @@ import numpy as np
 
 from ..problem.exact.fields import field_errors
 from ..problem.material import strain_from_gradient
-from ..solution import Solution
+from ..solution import Solution, resultant
 from .locate import PointLocator
 
 __all__ = ["FEMSolution"]
@@ -300,8 +300,10 @@ class FEMSolution(Solution):
         n = np.array([a[1] - b[1], b[0] - a[0]]) / np.linalg.norm(b - a)
         return float((self.u[2 * i:2 * i + 2] - self.u[2 * j:2 * j + 2]) @ n)
 
-    def reaction(self, edge) -> np.ndarray:
-        """Resultant force ``(2,)`` of ``K u - f`` over the DOFs of an edge.
+    def reaction(self, edge, about=None) -> np.ndarray:
+        """Resultant force ``(2,)`` of ``K u - f`` over the DOFs of an edge; with
+        ``about=(x0, y0)`` ``(F_x, F_y, M)``, M the moment of the nodal forces about that
+        point (:func:`efgkit.solution.resultant`).
 
         For a supported edge this is the force the support applies to the body;
         free DOFs carry no residual. A corner DOF shared by two edges counts for both.
@@ -310,7 +312,9 @@ class FEMSolution(Solution):
         ----------
         edge : str or callable
             Edge name, or ``x (n, 2) -> bool (n,)`` selecting boundary DOF locations.
+        about : (2,) float, optional
         """
+
         from .dofs import dofs_where
 
         if isinstance(edge, str) and edge not in self.scene.domain.edge_names:
@@ -318,7 +322,8 @@ class FEMSolution(Solution):
                              f"{sorted(self.scene.domain.edge_names)}")
         dofs, _ = dofs_where(edge, self.mesh, self.fmap, self._sbasis)
         r = self.K @ self.u - self.f
-        return np.array([r[2 * dofs].sum(), r[2 * dofs + 1].sum()])
+        return resultant(self._sbasis.doflocs[:, dofs].T, np.column_stack([r[2 * dofs], r[2 * dofs + 1]]),
+                         about)
 
     def nodal_stress(self) -> np.ndarray:
         """Stress (n_nodes, 3) at the mesh vertices (:func:`efgkit.fem.output.nodal_stress`)."""

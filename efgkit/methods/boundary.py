@@ -32,7 +32,7 @@ from .discretize import (
 )
 
 __all__ = ["collocation_rows", "crack_face_loads", "eliminated_dofs", "essential_conditions",
-           "gamma_u_term", "loads"]
+           "gamma_u_term", "loads", "point_springs"]
 
 
 def loads(disc: Discretization) -> np.ndarray:
@@ -142,7 +142,13 @@ def essential_conditions(disc: Discretization, derivatives: bool) -> Dirichlet:
                 f"support {sup.edge!r} selects none of the boundary quadrature points: EFG imposes "
                 "supports as integrals along boundary lines, so a callable that picks isolated "
                 "points (a single point to pin) selects nothing. Select a stretch of boundary "
-                "instead, e.g. the points within one spacing of the point to pin.")
+                "instead, e.g. the points within one spacing of the point to pin, or a "
+                "PointSupport.")
+    for p in scene.point_supports:  # collocation at the point: its own multiplier (a hat of
+        # one point), a spring beta h (penalty), Nitsche without flux (zero normal)
+        parts.append((np.array([p.x]), np.array([m.spacing]), np.zeros((1, 2)), np.array([p.fixed]),
+                      np.array([p.values]), np.array([seg0]), np.zeros(1), np.array([[hat0, hat0]])))
+        seg0, hat0 = seg0 + 1, hat0 + 1
     if not parts:
         x = np.zeros((0, 2))
         return Dirichlet(x, np.zeros(0), x, disc.shape_at(x, derivatives), np.zeros((0, 2), bool),
@@ -151,6 +157,23 @@ def essential_conditions(disc: Discretization, derivatives: bool) -> Dirichlet:
     x = cat[0]
     return Dirichlet(x, cat[1], cat[2], disc.shape_at(x, derivatives), cat[3], cat[4], cat[5],
                      cat[6], cat[7])
+
+
+def point_springs(disc: Discretization, beta: float):
+    """The point supports as springs of stiffness ``beta`` for :func:`efgkit.system.constraints.
+    eliminate` (bc="modified_mls"): ``(P (k, n_dofs), values (k,), beta (k,), x (k, 2), comp (k,))``
+    with one row ``u^h_comp(x)`` per prescribed component, or None without point supports."""
+    pts = disc.scene.point_supports
+    if not pts:
+        return None
+    x = np.array([p.x for p in pts])
+    fixed, vals = np.array([p.fixed for p in pts]), np.array([p.values for p in pts])
+    ux, uy = disc.shape_at(x, derivatives=False).u_operators()
+    q, c = np.nonzero(fixed)
+    rows = [(ux, uy)[ci][[qi]] for qi, ci in zip(q, c, strict=True)]  # k <= 2 per point support
+    from scipy.sparse import csr_array, vstack
+
+    return (csr_array(vstack(rows, format="csr")), vals[q, c], np.full(len(q), beta), x[q], c)
 
 
 def eliminated_dofs(disc: Discretization, x=None):

@@ -309,7 +309,7 @@ def _interpolating_supports(nodes: NodeCloud, interp: np.ndarray) -> NodeCloud:
     if len(xb) >= 2:
         d, _ = cKDTree(xb).query(xb, k=2)
         r[interp] = np.minimum(r[interp], d[:, 1] * (1 - 1e-9))  # neighbour itself excluded
-    return NodeCloud(nodes.x, r, nodes.boundary)
+    return NodeCloud(nodes.x, r, nodes.boundary, nodes.face, nodes.face_segment)  # crack faces kept
 
 
 def boundary_segments_for(edge: Edge, nodes: NodeCloud, spacing: float) -> int:

@@ -280,11 +280,13 @@ class EFG:
         'penalty'
         """
         tips = scene.tips
+        # the modelled tips of a half or quarter model (boundary points: graded, not enriched)
+        sym = () if getattr(scene, "symmetry", None) is None else scene.symmetry.modelled_tips(scene.domain)
         kw = {}
         if self.zones is None:
             kw["zones"] = () if self.coordinates is not None or self.enrichment != "auto" else tuple(
                 Zone(tuple(t.x), r * self.spacing, f * self.spacing)
-                for t in tips for r, f in AUTO_TIP_ZONES)
+                for t in tips + sym for r, f in AUTO_TIP_ZONES)
         if self.enrichment == "auto":
             if not tips or self.crack_rule == "visibility":
                 kw["enrichment"] = "none"
@@ -294,7 +296,7 @@ class EFG:
                 kw["enrichment"] = "pu"
                 kw["enrich_radius"] = self.spacing if self.enrich_radius is None else self.enrich_radius
         if self.bc == "auto":
-            kw["bc"] = "lagrange" if tips else "penalty"
+            kw["bc"] = "lagrange" if tips or sym else "penalty"
         return replace(self, **kw) if kw else self
 
     def tip_cell_zones(self, scene) -> tuple[Zone, ...]:

@@ -10,9 +10,11 @@ knows about nodes, points or matrices.
 
 from .crack import Crack, Tip
 from .exact.fields import Field
+from .expression import Expression, VectorExpression
 from .geometry import Domain, Edge, Loop
 from .material import Elastic
-from .scene import Scene, Support, Traction
+from .scene import PointSupport, Pressure, Scene, Support, Traction
+from .symmetry import Symmetry
 
-__all__ = ["Crack", "Domain", "Edge", "Elastic", "Field", "Loop", "Scene", "Support", "Tip",
-           "Traction"]
+__all__ = ["Crack", "Domain", "Edge", "Elastic", "Expression", "Field", "Loop", "PointSupport", "Pressure",
+           "Scene", "Support", "Symmetry", "Tip", "Traction", "VectorExpression"]

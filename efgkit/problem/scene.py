@@ -18,9 +18,11 @@ from .crack import Crack
 from .exact.fields import Field
 from .geometry import COORDINATE_LIMIT, Domain
 from .material import Elastic
+from .supports import PointSupport, Pressure
+from .symmetry import Symmetry, full_domain
 
-__all__ = ["MIN_CRACK_LENGTH", "VALUE_LIMIT", "Scene", "Support", "Traction", "evaluate_vector",
-           "evaluate_component"]
+__all__ = ["MIN_CRACK_LENGTH", "VALUE_LIMIT", "PointSupport", "Pressure", "Scene", "Support", "Traction",
+           "evaluate_vector", "evaluate_component"]
 
 Where = str | Callable  # edge name or x (n, 2) -> bool mask (n,)
 
@@ -35,7 +37,7 @@ _RESCALE = "rescale the units (e.g. MPa and mm instead of Pa and m)"
 
 
 def _check_value(what: str, v, vector: bool) -> None:
-    if v is None or callable(v) or isinstance(v, Field):
+    if v is None or callable(v) or isinstance(v, (Field, Pressure)):
         return
     arr = np.asarray(v, dtype=float)
     if arr.shape != ((2,) if vector else ()):
@@ -119,14 +121,24 @@ class Scene:
     body_force_history: Callable | None = None
     initial_displacement: tuple[float, float] | Callable | Field | None = None
     initial_velocity: tuple[float, float] | Callable | Field | None = None
+    point_supports: tuple[PointSupport, ...] = ()
+    symmetry: Symmetry | None = None  # half and quarter models (efgkit.problem.symmetry)
 
     def __post_init__(self):
         if not isinstance(self.domain, Domain):
             raise TypeError(f"domain must be a Domain, got {type(self.domain).__name__}")
         if not isinstance(self.material, Elastic):
             raise TypeError(f"material must be an Elastic, got {type(self.material).__name__}")
-        for attr in ("supports", "tractions", "cracks"):
+        for attr in ("supports", "tractions", "cracks", "point_supports"):
             object.__setattr__(self, attr, tuple(getattr(self, attr)))
+        _check_points(self.point_supports, self.domain)
+        if self.symmetry is not None:
+            if not isinstance(self.symmetry, Symmetry):
+                raise TypeError(f"symmetry must be a Symmetry, got {type(self.symmetry).__name__}")
+            _check_cracks(self.symmetry.cracks, full_domain(self.domain, self.symmetry))
+            if not self.symmetry.modelled_tips(self.domain):
+                raise ValueError("symmetry: no tip of the symmetry cracks lies on the model's "
+                                 "boundary; the modelled tip is where the crack face meets the ligament")
         names = self.domain.edge_names
         for kind, items in (("support", self.supports), ("traction", self.tractions)):
             for it in items:
@@ -136,6 +148,8 @@ class Scene:
                         f"its edges are {sorted(names)}"
                     )
         _check_cracks(self.cracks, self.domain)
+        if isinstance(self.body_force, Pressure):
+            raise TypeError("body_force cannot be a Pressure (it acts on edges): give (bx, by)")
         _check_value("body_force", self.body_force, vector=True)
         _check_scales(self)
         if self.duration is not None and not (math.isfinite(self.duration) and self.duration > 0):
@@ -165,6 +179,14 @@ class Scene:
         """A copy with ``cracks`` replaced."""
         return replace(self, cracks=tuple(cracks))
 
+    def full(self) -> Scene:
+        """The whole body of a half or quarter model (the domain glued to its mirror images,
+        with the symmetry cracks; material only, no loads): the scene of its SIFs."""
+        if self.symmetry is None:
+            return self
+        return Scene(full_domain(self.domain, self.symmetry), self.material,
+                     cracks=self.cracks + self.symmetry.cracks, name=self.name)
+
     def with_supports(self, supports) -> Scene:
         """A copy with ``supports`` replaced."""
         return replace(self, supports=tuple(supports))
@@ -180,6 +202,17 @@ def _check_history(what: str, g) -> None:
     v = np.asarray(g(0.0), dtype=float)
     if v.shape != () or not np.isfinite(v):
         raise ValueError(f"{what}: g(0) must be a finite float, got {v!r}")
+
+
+def _check_points(points, domain: Domain) -> None:
+    """Point supports are PointSupport objects at points of the closed body."""
+    for p in points:
+        if not isinstance(p, PointSupport):
+            raise TypeError(f"point_supports must hold PointSupport objects, got {type(p).__name__}")
+        x = np.array([p.x])
+        if not domain.contains(x)[0] and domain.distance_to_boundary(x)[0] > 1e-9 * domain.size:
+            raise ValueError(f"point support at {list(p.x)} lies outside the domain; put it inside "
+                             "the body or on its boundary (e.g. at a vertex)")
 
 
 def _check_cracks(cracks, domain: Domain) -> None:
@@ -218,7 +251,8 @@ def _check_cracks(cracks, domain: Domain) -> None:
                 where = "on the domain boundary" if d <= tol else "outside the domain"
                 raise ValueError(
                     f"crack {c.name!r}: {what} {k} {v[k].tolist()} lies {where}; cracks must run "
-                    "inside the body (a crack along the boundary is just boundary)")
+                    "inside the body (a crack along the boundary is just boundary; a crack on the "
+                    "symmetry line of a half or quarter model goes in Scene(symmetry=Symmetry(...)))")
         # No segment may cross the boundary; a mouth touches it at its vertex only, so the
         # segment at a mouth is tested without its last 1e-7 of length.
         last = len(v) - 2
@@ -257,7 +291,9 @@ def _check_scales(scene: Scene) -> None:
     lL, lE = math.log10(L), math.log10(E)
     found = []  # (log10 of the stress scale, its source), in logs: nothing overflows here
     for t in scene.tractions:
-        if not (callable(t.t) or isinstance(t.t, Field)):
+        if isinstance(t.t, Pressure):
+            found.append((abs(t.t.p), 0.0, f"traction on {t.edge!r}: pressure = {t.t.p!r}"))
+        elif not (callable(t.t) or isinstance(t.t, Field)):
             found.append((math.hypot(*map(float, t.t)), 0.0, f"traction on {t.edge!r}: t = {t.t!r}"))
     b = scene.body_force
     if b is not None and not (callable(b) or isinstance(b, Field)):
@@ -314,9 +350,12 @@ def _check_evaluated(what: str, out: np.ndarray) -> None:
 def evaluate_vector(value, x: np.ndarray, normal: np.ndarray, material: Elastic) -> np.ndarray:
     """Evaluate a traction / body-force value at ``x (n, 2)`` -> (n, 2).
 
-    ``normal (n, 2)`` is the outward unit normal, used by :class:`Field` values.
+    ``normal (n, 2)`` is the outward unit normal, used by :class:`Field` and
+    :class:`Pressure` values.
     """
-    if isinstance(value, Field):
+    if isinstance(value, Pressure):
+        out = -value.p * np.asarray(normal, dtype=float)
+    elif isinstance(value, Field):
         s = value.stress(x, material)
         out = np.column_stack([s[:, 0] * normal[:, 0] + s[:, 2] * normal[:, 1],
                                s[:, 2] * normal[:, 0] + s[:, 1] * normal[:, 1]])

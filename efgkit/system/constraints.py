@@ -23,6 +23,7 @@ modified collocation method of :mod:`efgkit.system.collocation`.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -86,6 +87,10 @@ class LinearSystem:
         With elimination, the coefficient indices ``z`` stands for.
     fixed_values : (n_dofs,) or None
         With elimination, the prescribed coefficients.
+    support_forces : callable or None
+        ``z -> (x (m, 2), force (m, 2))``: the forces the essential conditions apply to
+        the body, at the points where they act, from the weak form (docs/theory.md,
+        "Reactions"); contracted with a rigid-body motion they balance the load vector.
     """
 
     A: csr_array
@@ -94,6 +99,7 @@ class LinearSystem:
     n_coeffs: int
     free: np.ndarray | None = None
     fixed_values: np.ndarray | None = None
+    support_forces: Callable | None = None
 
     def coefficients(self, z: np.ndarray) -> np.ndarray:
         """MLS coefficients ``(n_dofs,)`` from the solution ``z``."""
@@ -112,6 +118,13 @@ def _fixed_rows(ops, fixed: np.ndarray) -> csr_array:
     n = fixed.shape[0]
     q, c = np.nonzero(fixed)
     return csr_array(vstack(list(ops), format="csr")[c * n + q])
+
+
+def _at_points(fixed: np.ndarray, values: np.ndarray) -> np.ndarray:
+    """(m, 2) array with ``values`` (point-major, as ``fixed`` rows) at the fixed components."""
+    out = np.zeros(fixed.shape)
+    out[fixed] = values
+    return out
 
 
 def _component_operator(shape: Shape, fixed: np.ndarray) -> csr_array:
@@ -146,7 +159,7 @@ def check_rigid_modes(C: csr_array, node_x: np.ndarray) -> None:
     R /= np.linalg.norm(R, axis=0)
     sv = np.linalg.svd(C @ R, compute_uv=False)
     names = ["translation in x", "translation in y", "rotation"]
-    if sv[-1] < 1e-8 * sv[0]:
+    if len(sv) < 3 or sv[-1] < 1e-8 * sv[0]:  # fewer than 3 constraints (one point) never suffice
         _, _, vt = np.linalg.svd(C @ R)
         free = names[int(np.argmax(np.abs(vt[-1])))]
         raise RigidBodyModeError(
@@ -165,7 +178,10 @@ def penalty(K, f, bc: Dirichlet, beta: float, node_x: np.ndarray,
     W = diags_array(beta * w)
     A = csr_array(K + G.T @ W @ G)
     b = f + G.T @ (beta * w * bc.value[bc.fixed])
-    return LinearSystem(A, b, spd=True, n_coeffs=K.shape[0])
+
+    def forces(z):  # the penalty force -beta (u^h - ubar) ds at each point
+        return bc.x, _at_points(bc.fixed, -beta * w * (G @ z[: K.shape[0]] - bc.value[bc.fixed]))
+    return LinearSystem(A, b, spd=True, n_coeffs=K.shape[0], support_forces=forces)
 
 
 def lagrange(K, f, bc: Dirichlet, node_x: np.ndarray, check: bool = True) -> LinearSystem:
@@ -197,7 +213,13 @@ def lagrange(K, f, bc: Dirichlet, node_x: np.ndarray, check: bool = True) -> Lin
     scale = abs(K).max() / max(abs(G).max(), np.finfo(float).tiny) if G.shape[0] else 1.0
     G, q = csr_array(scale * G), scale * q
     A = csr_array(bmat([[K, G.T], [G, None]], format="csr"))
-    return LinearSystem(A, np.concatenate([f, q]), spd=False, n_coeffs=K.shape[0])
+    n = K.shape[0]
+
+    def forces(z):  # -lambda ds at each point: the multipliers (scaled back) on the hats
+        lam = np.zeros(N.shape[0])
+        lam[used] = scale * z[n:]
+        return bc.x, _at_points(bc.fixed, -(N.T @ lam))
+    return LinearSystem(A, np.concatenate([f, q]), spd=False, n_coeffs=n, support_forces=forces)
 
 
 def _traction_operator(bc: Dirichlet, D: np.ndarray) -> csr_array:
@@ -245,24 +267,51 @@ def modified_variational(K, f, bc: Dirichlet, D: np.ndarray, beta: float,
     H = G.T @ W @ T
     A = csr_array(K - H - H.T + beta * (G.T @ W @ G))
     b = f - T.T @ (w * ub) + beta * (G.T @ (w * ub))
-    return LinearSystem(A, b, spd=True, n_coeffs=K.shape[0])
+
+    def forces(z):  # the consistent flux (sigma^h n - beta (u^h - ubar)) ds at each point
+        c = z[: K.shape[0]]
+        return bc.x, _at_points(bc.fixed, w * (T @ c - beta * (G @ c - ub)))
+    return LinearSystem(A, b, spd=True, n_coeffs=K.shape[0], support_forces=forces)
 
 
 def eliminate(K, f, fixed_dofs: np.ndarray, fixed_values: np.ndarray,
-              node_x: np.ndarray) -> LinearSystem:
+              node_x: np.ndarray, springs=None) -> LinearSystem:
     """Direct elimination of coefficients known to equal prescribed values.
 
     Valid for shape functions with the Kronecker-delta property at the
-    constrained nodes (seed 002 Eq. 19, 'row cross-out').
+    constrained nodes (seed 002 Eq. 19, 'row cross-out'). ``springs``: optional
+    ``(P (k, n_dofs), values (k,), beta (k,), x (k, 2), comp (k,))``, point constraints
+    ``P c = values`` on component ``comp`` imposed by springs of stiffness ``beta`` at the
+    points ``x`` (point supports).
     """
     n = K.shape[0]
     C = csr_array((np.ones(len(fixed_dofs)), (np.arange(len(fixed_dofs)), fixed_dofs)),
                   shape=(len(fixed_dofs), n))
-    check_rigid_modes(C, node_x)
+    K0, f0 = K, f  # the support forces are K0 c - f0 on the eliminated rows
+    if springs is not None:
+        P, pv, pb, px, pc = springs
+        check_rigid_modes(csr_array(vstack([C, P], format="csr")), node_x)
+        K = csr_array(K + P.T @ diags_array(pb) @ P)
+        f = f + P.T @ (pb * pv)
+    else:
+        check_rigid_modes(C, node_x)
     c0 = np.zeros(n)
     c0[fixed_dofs] = fixed_values
     free = np.setdiff1d(np.arange(n), fixed_dofs)
     Kc = K.tocsc()
     A = csr_array(Kc[:, free].tocsr()[free])
     b = (f - K @ c0)[free]
-    return LinearSystem(A, b, spd=True, n_coeffs=n, free=free, fixed_values=c0)
+    fx = np.repeat(node_x, 2, axis=0)[fixed_dofs] if len(fixed_dofs) else np.zeros((0, 2))
+
+    def forces(z):  # K c - f on the eliminated rows, at their nodes (and the springs' forces)
+        c = c0.copy()
+        c[free] = z
+        r = np.zeros((len(fixed_dofs), 2))
+        r[np.arange(len(fixed_dofs)), fixed_dofs % 2] = (K0 @ c - f0)[fixed_dofs]
+        if springs is None:
+            return fx, r
+        rs = np.zeros((len(pv), 2))
+        rs[np.arange(len(pv)), pc] = -pb * (P @ c - pv)
+        return np.vstack([fx, px]), np.vstack([r, rs])
+    return LinearSystem(A, b, spd=True, n_coeffs=n, free=free, fixed_values=c0,
+                        support_forces=forces)
