@@ -141,9 +141,11 @@ class TipOperators:
         return out
 
     def dynamic(self, u: np.ndarray, a: np.ndarray, t: float, q="wendland_c2",
-                inertia: bool = True, face_terms: bool = True) -> dict:
+                inertia: bool = True, face_terms: bool = True, domains: bool = False) -> dict:
         """The :data:`DYNAMIC_ESTIMATES` ``(n_tips, 2)`` each for displacement ``u`` and
-        acceleration ``a`` (coefficients) at ``t``, stationary tips (``V = 0``).
+        acceleration ``a`` (coefficients) at ``t``, stationary tips (``V = 0``); with
+        ``domains`` also ``"J_prime_domains"`` ``(n_tips, n_radii, 2)``: ``J'_1``, ``J'_2``
+        of each domain, by increasing radius (all tips need the same number of radii).
 
         ``inertia=False`` drops the acceleration (the static integrand) and
         ``face_terms=False`` the crack-face terms: both only to show what they contribute.
@@ -171,7 +173,11 @@ class TipOperators:
             out["interaction"][k] = (res.KI, res.KII)
             out["J_prime"][k] = (res.J1, res.J2)
             out["spread"][k] = (res.spread_J, res.spread)
+            if domains:
+                out.setdefault("J_prime_domains", []).append([(dd.J1, dd.J2) for dd in res.domains])
             out["stress_0"][k], out["stress_90"][k] = self._near_tip(d, u)
+        if domains:
+            out["J_prime_domains"] = np.array(out["J_prime_domains"])
         return out
 
 
@@ -198,6 +204,9 @@ class DynamicDSIF:
         and 15 local spacings (:func:`~efgkit.fracture.sif.default_radii`).
     q : str or callable
         The q-function (:func:`~efgkit.fracture.dynamic_tip.dynamic_tip_result`).
+    domains : bool
+        Also record ``"J_prime_domains"`` ``(n_tips, n_radii, 2)``, ``J'_1``, ``J'_2`` of every
+        domain (path independence); default False.
     inertia, face_terms : bool
         Keep the inertia term ``rho u''_i u_i,k q`` and the crack-face terms of ``J'``
         (default). Setting either to False gives a wrong ``J'`` under dynamic load or
@@ -218,6 +227,7 @@ class DynamicDSIF:
     q: str | Callable = "wendland_c2"
     inertia: bool = True
     face_terms: bool = True
+    domains: bool = False
 
     def __post_init__(self):
         if self.radii is not None and not callable(self.radii):
@@ -238,7 +248,7 @@ class DynamicDSIF:
         with warnings.catch_warnings():  # near-tip fits before the waves arrive (K = 0)
             warnings.simplefilter("ignore")
             return ops.dynamic(np.asarray(u, float), np.asarray(a, float), t, self.q,
-                               self.inertia, self.face_terms)
+                               self.inertia, self.face_terms, self.domains)
 
 
 dynamic_dsif = DynamicDSIF()
