@@ -22,7 +22,7 @@ def run():
                              Traction("bottom", (0.0, -1.0), history=Heaviside())), duration=0.2)
     radii = (0.3, 0.375, 0.45)
     hooks = {"default": dynamic_dsif, "quasi_static": quasi_static_dsif,
-             "dynamic": DynamicDSIF(radii=radii),
+             "dynamic": DynamicDSIF(radii=radii, domains=True),
              "no_inertia": DynamicDSIF(radii=radii, inertia=False),
              "no_faces": DynamicDSIF(radii=radii, face_terms=False)}
     out = {k: {} for k in hooks}
@@ -49,6 +49,12 @@ def test_default_hook_gives_every_estimate_side_by_side(run):
     m = MAT
     assert np.allclose(s["J_prime"][:, 0, 0], (m.kappa + 1) / (8 * m.mu) * s["J"][:, 0, 0] ** 2,
                        rtol=1e-10, atol=1e-14)
+
+
+def test_j_of_each_domain(run):
+    s = run["dynamic"]["sifs"]
+    assert s["J_prime_domains"].shape == (len(run["dynamic"]["t"]), 1, 3, 2)
+    assert np.allclose(s["J_prime_domains"].mean(axis=2), s["J_prime"], rtol=1e-12, atol=1e-15)
 
 
 def test_without_inertia_the_interaction_is_the_static_one(run):

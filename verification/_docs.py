@@ -122,7 +122,7 @@ SECTIONS = {"patch": ("Linear patch test", patch),
 # Later scripts carry their own section: a module-level TITLE and markdown(record) -> lines.
 ORDER = ("patch", "cantilever", "kirsch", "crack_rules", "near_tip", "singular_patch",
          "shear_edge_crack", "q_functions", "inclined", "fem_reference", "sent", "error_estimate",
-         "stability", "freund", "center_crack_dynamic")
+         "stability", "freund", "center_crack_dynamic", "wave_diffraction")
 
 
 def _section(name: str):
