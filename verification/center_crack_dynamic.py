@@ -143,7 +143,7 @@ def main(quick: bool = False, out_dir=None) -> dict:
     rep = Report(NAME, quick)
     if quick:  # coarse (2 mm) and short: mode I until the early-time window closes
         grids = {"53x21": (53, 21, 0.2 * US)}  # the radii scale with the spacing (x 2)
-        duration, every, cases, radii = 7.0 * US, 0.25 * US, ("mode_I",), tuple(2 * r for r in RADII)
+        duration, every, cases, radii = 7.0 * US, 0.4 * US, ("mode_I",), tuple(2 * r for r in RADII)
     else:
         grids = {"105x42": (105, 42, 0.1 * US), "209x83": (209, 83, 0.05 * US)}
         duration, every, cases, radii = 14.0 * US, 0.2 * US, tuple(CASES), RADII
