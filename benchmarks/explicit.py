@@ -9,7 +9,8 @@ The scene is a unit square with an edge crack to its centre, clamped at the bott
 with d_max 2, linear basis, 4 x 4 Gauss points per cell, no enrichment. In each of
 ``--repeat`` rounds, interleaved in one process: ``n`` bare products ``K @ u``, ``n`` steps of
 :func:`efgkit.explicit.integrate` without output (the loop alone), and ``n`` steps with
-probes, energies, VTU-free output and the quasi-static DSIF every ``--every`` steps. Medians
+probes, energies, VTU-free output and the default DSIF hook (dynamic J', interaction integral
+with inertia, near-tip stresses) every ``--every`` steps. Medians
 are reported; the machine is shared, so only ratios within one round mean much.
 """
 
@@ -123,8 +124,9 @@ def markdown(res: dict, cmd: str) -> str:
         f"{res['constraint_rows']} Lagrange constraint rows, imposed by projection every step. "
         f"Each round: {res['steps']} bare products `K @ u`, {res['steps']} steps without output, "
         f"{res['steps']} steps with output every {res['every']} steps (10 probes: displacement, "
-        "velocity, stress; energies; the quasi-static DSIF hook: interaction integral over three "
-        "domains and the near-tip stress estimates; each run also records its first and last "
+        "velocity, stress; energies; the default DSIF hook `dynamic_dsif`: dynamic J' and the "
+        "interaction integral with inertia over three domains, and the near-tip stress "
+        "estimates; each run also records its first and last "
         "instant, so a block has one output more than the interval gives). Each run continues "
         "from the state of the previous one. K has 32-bit indices (`explicit.system`).", "",
         *rows, "",

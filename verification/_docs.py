@@ -122,7 +122,8 @@ SECTIONS = {"patch": ("Linear patch test", patch),
 # Later scripts carry their own section: a module-level TITLE and markdown(record) -> lines.
 ORDER = ("patch", "cantilever", "kirsch", "crack_rules", "near_tip", "singular_patch",
          "shear_edge_crack", "q_functions", "inclined", "fem_reference", "sent", "error_estimate",
-         "stability", "kink_angle", "paris", "dcb_path", "symmetry", "senb")
+         "stability", "freund", "center_crack_dynamic", "wave_diffraction", "kink_angle", "paris",
+         "dcb_path", "symmetry", "senb")
 
 
 def _section(name: str):

@@ -3,15 +3,15 @@
 ``system`` assembles the semi-discrete system once (stiffness, lumped mass, loads per
 history, essential conditions) and estimates the critical step; ``integrate`` runs the
 loop of sparse products; ``output`` records probes, energies, SIFs and VTU series at the
-output instants; ``dsif`` is the hook where the dynamic SIFs are computed; ``result``
-holds the histories (:class:`DynamicSolution`).
+output instants; ``dsif`` computes the dynamic SIFs (J', interaction with inertia, near-tip
+stresses); ``result`` holds the histories (:class:`DynamicSolution`).
 """
 
-from .dsif import quasi_static_dsif
+from .dsif import DynamicDSIF, dynamic_dsif, quasi_static_dsif
 from .integrate import BLOWUP_FACTOR, InstabilityError, State, initial_state, integrate, load_stepping
 from .result import DynamicSolution
 from .system import Dynamics, dynamics, fit_coefficients, stable_step
 
-__all__ = ["BLOWUP_FACTOR", "DynamicSolution", "Dynamics", "InstabilityError", "State", "dynamics",
-           "fit_coefficients", "initial_state", "integrate", "load_stepping", "quasi_static_dsif",
-           "stable_step"]
+__all__ = ["BLOWUP_FACTOR", "DynamicDSIF", "DynamicSolution", "Dynamics", "InstabilityError", "State",
+           "dynamic_dsif", "dynamics", "fit_coefficients", "initial_state", "integrate", "load_stepping",
+           "quasi_static_dsif", "stable_step"]

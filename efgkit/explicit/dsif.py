@@ -1,32 +1,55 @@
 """Dynamic stress intensity factors at the output instants of an explicit run: the hook.
 
 :func:`~efgkit.explicit.integrate.integrate` calls ONE function at every output instant,
-``dsif(dyn, u, v, a, t) -> {estimate: ndarray (n_tips, 2)}`` (K_I, K_II of every tip of
+``dsif(dyn, u, v, a, t) -> {estimate: ndarray (n_tips, 2)}`` (one row per tip of
 ``scene.tips``), with the MLS coefficients of the displacement ``u``, velocity ``v`` and
-acceleration ``a`` at ``t`` (each ``(n_dofs,)``). The dynamic J' of seed 002 Eqs. (31)-(38)
-plugs in here (it needs ``v`` and ``a`` for the kinetic and inertia terms). Until then
-:func:`quasi_static_dsif` evaluates the static estimates on the current displacement,
-which omit the inertia terms.
+acceleration ``a`` at ``t`` (each ``(n_dofs,)``).
 
-The operators the estimates need (displacement gradients at the quadrature points inside
-each tip's largest J domain, at the near-tip ray points and on loaded crack faces) are
-built at the first call for a run and kept (:class:`TipOperators`): each later call is a
-few sparse products and the domain integrals over those points, no search.
+The default, :data:`dynamic_dsif` (a :class:`DynamicDSIF`), evaluates for a stationary
+crack, side by side (seed 002 Eqs. 31-38, seed 000 Eqs. 5.2-5.8):
+
+* ``"J"``: ``K_I``, ``K_II`` from the dynamic ``J'_1``, ``J'_2`` (Nishioka and Atluri,
+  domain form with the inertia term ``rho u''_i u_i,k q`` and the crack-face terms; at
+  ``V = 0`` the kinetic terms cancel, so no velocity is needed) through the velocity
+  functions at ``V = 0`` (:func:`~efgkit.fracture.dynamic_tip.dynamic_tip_result`);
+* ``"interaction"``: the interaction integral with the inertia term;
+* ``"stress_0"``, ``"stress_90"``: the near-tip stresses on theta = 0 and 90 degrees;
+* ``"J_prime"``: ``(J'_1, J'_2)`` themselves (tip frame, mean over the domains);
+* ``"spread"``: ``(spread_J, spread)``, the domain spreads of the ``J'`` and the
+  interaction ``K`` (:class:`~efgkit.fracture.dynamic_tip.DynamicTipResult`).
+
+:func:`quasi_static_dsif` keeps the static estimates on the current displacement (no
+inertia term), for comparison.
+
+The operators the estimates need (displacement gradients and values at the quadrature
+points inside each tip's largest J domain, at the near-tip ray points and on loaded crack
+faces) are built at the first call for a run and kept (:class:`TipOperators`): each later
+call is a few sparse products and the domain integrals over those points, no search.
+Crack-face pressure is constant in time in a scene (it acts from ``t = 0`` on, a
+Heaviside step, like every load without a history: ``explicit.system``), so the face
+traction of ``J'`` is the pressure itself.
 """
 
 from __future__ import annotations
 
 import warnings
 import weakref
+from collections.abc import Callable
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.sparse import csr_array, vstack
 
+from ..fracture.dynamic_tip import dynamic_tip_result
 from ..fracture.extrapolation import near_tip_sif, ray_points
-from ..fracture.sif import face_loads, tip_radii, tip_result
+from ..fracture.integrals import FaceLoad
+from ..fracture.sif import face_loads, tip_limits, tip_radii, tip_result
 from ..problem.material import strain_from_gradient
+from ..problem.scene import evaluate_vector
 
-__all__ = ["TipOperators", "quasi_static_dsif"]
+__all__ = ["DYNAMIC_ESTIMATES", "DynamicDSIF", "TipOperators", "dynamic_dsif", "quasi_static_dsif"]
+
+DYNAMIC_ESTIMATES = ("J", "interaction", "stress_0", "stress_90", "J_prime", "spread")
 
 _CACHE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
@@ -43,11 +66,12 @@ def _grad(op: csr_array, u: np.ndarray) -> np.ndarray:
 
 
 class TipOperators:
-    """For every tip of a discretisation: its J-domain radii (the defaults of
-    :meth:`Solution.sifs`), the quadrature points within the largest, and the gradient
-    operators there, on the rays theta = 0, 90 degrees (1-6 spacings) and on loaded faces."""
+    """For every tip of a discretisation: its J-domain radii (``radii`` as in
+    :func:`~efgkit.fracture.sif.tip_radii`; None: the defaults of :meth:`Solution.sifs`),
+    the quadrature points within the largest, and the gradient and value operators there,
+    on the rays theta = 0, 90 degrees (1-6 spacings, within the free disc) and on loaded faces."""
 
-    def __init__(self, dyn):
+    def __init__(self, dyn, radii=None):
         disc = dyn.disc
         scene = disc.scene
         x, w = disc.points.x, disc.points.w
@@ -56,11 +80,13 @@ class TipOperators:
         for tip in scene.tips:
             k = int(np.argmin(np.hypot(*(disc.nodes.x - tip.x).T)))
             h = float(disc.nodes.radius[k] / disc.method.d_max)  # as MeshlessSolution.tip_spacing
-            rs = tip_radii(scene, tip, None, h)
+            rs = tuple(float(r) for r in tip_radii(scene, tip, radii, h))
             sel = np.flatnonzero(np.hypot(*(x - tip.x).T) <= max(rs) * (1 + 1e-9))
             nodal = disc.shape  # rows of the domain points: products restricted to ``sel``
             ops = [csr_array(g[sel]) for g in nodal.grad_operators()]
-            r = h * np.arange(1.0, 7.0)
+            vals = [csr_array(g[sel]) for g in nodal.u_operators()]
+            # 1-6 spacings, closer where the free disc about the tip is smaller than 6.7 h
+            r = min(h, 0.9 * min(tip_limits(scene, tip).values()) / 6) * np.arange(1.0, 7.0)
             rays = {th: _grad_op(disc, ray_points(tip, r, th)) for th in (0.0, np.pi / 2)}
             faces = {}
 
@@ -68,37 +94,165 @@ class TipOperators:
                 faces[side] = _grad_op(disc, xs)
                 return np.zeros((len(xs), 2, 2))
 
-            has_faces = face_loads(scene, tip, max(rs), gradient, h) is not None
+            # Face points on every tip (J'_2 carries W on unloaded faces too): sampled as
+            # for a unit pressure, the traction scaled by the crack's own pressure.
+            crack = next(c for c in scene.cracks if c.name == tip.crack)
+            unit = scene.with_cracks([replace(c, pressure=1.0) if c is crack else c
+                                      for c in scene.cracks])
+            f0 = face_loads(unit, tip, max(rs), gradient, h)
+            f0 = replace(f0, traction=crack.pressure * f0.traction)
             self.tips.append(dict(tip=tip, h=h, rs=rs, x=x[sel], w=w[sel],
-                                  op=csr_array(vstack(ops, format="csr")), r=r, rays=rays,
-                                  faces=faces if has_faces else None))
+                                  op=csr_array(vstack(ops, format="csr")),
+                                  val=csr_array(vstack(vals, format="csr")), r=r, rays=rays,
+                                  faces=faces, face0=f0, loaded=crack.pressure != 0.0))
         self.scene = scene
         enr = disc.approx.enrichment
         self.n_nodes = disc.nodes.n
         self.extrinsic = enr is not None and enr.kind == "extrinsic_mls"
 
+    def _faces(self, d: dict, u: np.ndarray) -> FaceLoad:
+        """The tip's face points with their tractions and the gradients of ``u`` there."""
+        grads = np.concatenate([_grad(d["faces"][s], u) for s in (1.0, -1.0)])
+        return replace(d["face0"], grad_u=grads)
+
+    def _near_tip(self, d: dict, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        out = []
+        for th in (0.0, np.pi / 2):
+            s = strain_from_gradient(_grad(d["rays"][th], u)) @ self.D.T
+            out.append(near_tip_sif(d["tip"], d["r"], s, th))
+        return out[0], out[1]
+
     def estimates(self, u: np.ndarray) -> dict:
-        """``{"interaction", "stress_0", "stress_90"}: (n_tips, 2)`` for coefficients ``u``."""
+        """``{"interaction", "stress_0", "stress_90"}: (n_tips, 2)`` for coefficients ``u``
+        (static integrals, no inertia)."""
         n = len(self.tips)
         out = {k: np.zeros((n, 2)) for k in ("interaction", "stress_0", "stress_90")}
         for k, d in enumerate(self.tips):
             grad = _grad(d["op"], u)
             stress = strain_from_gradient(grad) @ self.D.T
-            faces = None
-            if d["faces"] is not None:
-                faces = face_loads(self.scene, d["tip"], max(d["rs"]),
-                                   lambda xs, side, d=d: _grad(d["faces"][side], u), d["h"])
             kk = None
             if self.extrinsic:
                 i = 2 * self.n_nodes + 2 * k
                 kk = tuple(u[i:i + 2])
             res = tip_result(self.scene, d["tip"], d["x"], d["w"], stress, grad, d["rs"],
-                             faces=faces, enriched=kk)
+                             faces=self._faces(d, u) if d["loaded"] else None, enriched=kk)
             out["interaction"][k] = (res.KI, res.KII)
-            for key, th in (("stress_0", 0.0), ("stress_90", np.pi / 2)):
-                s = strain_from_gradient(_grad(d["rays"][th], u)) @ self.D.T
-                out[key][k] = near_tip_sif(d["tip"], d["r"], s, th)
+            out["stress_0"][k], out["stress_90"][k] = self._near_tip(d, u)
         return out
+
+    def dynamic(self, u: np.ndarray, a: np.ndarray, t: float, q="wendland_c2",
+                inertia: bool = True, face_terms: bool = True, domains: bool = False) -> dict:
+        """The :data:`DYNAMIC_ESTIMATES` ``(n_tips, 2)`` each for displacement ``u`` and
+        acceleration ``a`` (coefficients) at ``t``, stationary tips (``V = 0``); with
+        ``domains`` also ``"J_prime_domains"`` ``(n_tips, n_radii, 2)``: ``J'_1``, ``J'_2``
+        of each domain, by increasing radius (all tips need the same number of radii).
+
+        ``inertia=False`` drops the acceleration (the static integrand) and
+        ``face_terms=False`` the crack-face terms: both only to show what they contribute.
+        """
+        scene, mat = self.scene, self.scene.material
+        n = len(self.tips)
+        out = {k: np.zeros((n, 2)) for k in DYNAMIC_ESTIMATES}
+        bf = None
+        if scene.body_force is not None:
+            g = scene.body_force_history
+            bf = (1.0 if g is None else float(g(t)), scene.body_force)
+        for k, d in enumerate(self.tips):
+            grad = _grad(d["op"], u)
+            stress = strain_from_gradient(grad) @ self.D.T
+            m = len(d["x"])
+            acc = (d["val"] @ a).reshape(2, m).T if inertia else np.zeros((m, 2))
+            b = None
+            if bf is not None:
+                b = bf[0] * evaluate_vector(bf[1], d["x"], np.zeros_like(d["x"]), mat)
+            res = dynamic_tip_result(d["tip"], d["x"], d["w"], stress, grad, np.zeros((m, 2)), acc,
+                                     None, d["rs"], mat, q=q,
+                                     faces=self._faces(d, u) if face_terms else None,
+                                     body_force=b)
+            out["J"][k] = (res.KI_J, res.KII_J)
+            out["interaction"][k] = (res.KI, res.KII)
+            out["J_prime"][k] = (res.J1, res.J2)
+            out["spread"][k] = (res.spread_J, res.spread)
+            if domains:
+                out.setdefault("J_prime_domains", []).append([(dd.J1, dd.J2) for dd in res.domains])
+            out["stress_0"][k], out["stress_90"][k] = self._near_tip(d, u)
+        if domains:
+            out["J_prime_domains"] = np.array(out["J_prime_domains"])
+        return out
+
+
+def _operators(dyn, radii) -> TipOperators:
+    per_run = _CACHE.get(dyn)
+    if per_run is None:
+        per_run = _CACHE[dyn] = {}
+    key = radii if radii is None or callable(radii) else tuple(radii)
+    ops = per_run.get(key)
+    if ops is None:
+        ops = per_run[key] = TipOperators(dyn, radii)
+    return ops
+
+
+@dataclass(frozen=True, eq=False)
+class DynamicDSIF:
+    """The dynamic SIF hook of an explicit run: ``J'``, interaction with inertia and near-tip
+    stresses side by side (module docstring), for stationary cracks.
+
+    Parameters
+    ----------
+    radii : sequence of float, callable or None
+        J-domain radii of every tip (at least three), or ``tip -> radii``; None: 10, 12.5
+        and 15 local spacings (:func:`~efgkit.fracture.sif.default_radii`).
+    q : str or callable
+        The q-function (:func:`~efgkit.fracture.dynamic_tip.dynamic_tip_result`).
+    domains : bool
+        Also record ``"J_prime_domains"`` ``(n_tips, n_radii, 2)``, ``J'_1``, ``J'_2`` of every
+        domain (path independence); default False.
+    inertia, face_terms : bool
+        Keep the inertia term ``rho u''_i u_i,k q`` and the crack-face terms of ``J'``
+        (default). Setting either to False gives a wrong ``J'`` under dynamic load or
+        loaded faces: only to show what the terms contribute (``verification/freund.py``).
+
+    Calling it as ``hook(dyn, u, v, a, t)`` returns ``{estimate: ndarray (n_tips, 2)}``
+    for :data:`DYNAMIC_ESTIMATES`; the operators are built at the first call for a run.
+
+    Examples
+    --------
+    >>> from efgkit.explicit import DynamicDSIF, integrate
+    >>> hook = DynamicDSIF(radii=(0.3, 0.4, 0.5))     # integrate(..., dsif=hook)
+    >>> hook.q
+    'wendland_c2'
+    """
+
+    radii: Callable | tuple | None = None
+    q: str | Callable = "wendland_c2"
+    inertia: bool = True
+    face_terms: bool = True
+    domains: bool = False
+
+    def __post_init__(self):
+        if self.radii is not None and not callable(self.radii):
+            try:
+                rs = tuple(float(r) for r in self.radii)
+            except (TypeError, ValueError) as err:
+                raise TypeError(f"radii must be a sequence of numbers, a callable tip -> radii or "
+                                f"None, got {self.radii!r}") from err
+            if len(rs) < 3 or not all(np.isfinite(r) and r > 0 for r in rs):
+                raise ValueError(f"radii must be at least three finite radii > 0 (domain "
+                                 f"independence), got {list(rs)}")
+            object.__setattr__(self, "radii", rs)
+
+    def __call__(self, dyn, u: np.ndarray, v: np.ndarray, a: np.ndarray, t: float) -> dict:
+        if not dyn.disc.scene.tips:
+            return {}
+        ops = _operators(dyn, self.radii)
+        with warnings.catch_warnings():  # near-tip fits before the waves arrive (K = 0)
+            warnings.simplefilter("ignore")
+            return ops.dynamic(np.asarray(u, float), np.asarray(a, float), t, self.q,
+                               self.inertia, self.face_terms, self.domains)
+
+
+dynamic_dsif = DynamicDSIF()
+"""The default hook of :func:`~efgkit.explicit.integrate.integrate` (:class:`DynamicDSIF`)."""
 
 
 def quasi_static_dsif(dyn, u: np.ndarray, v: np.ndarray, a: np.ndarray, t: float) -> dict:
@@ -112,15 +266,13 @@ def quasi_static_dsif(dyn, u: np.ndarray, v: np.ndarray, a: np.ndarray, t: float
     * ``"stress_0"``, ``"stress_90"``: from the near-tip stresses on theta = 0 and 90
       degrees, mean of the two points nearest the tip (seed 000 Eqs. 5.2-5.5).
 
-    ``v`` and ``a`` are unused here (the dynamic J' needs them). The domain-spread warnings
+    ``v`` and ``a`` are unused (:data:`dynamic_dsif` uses ``a``). The domain-spread warnings
     of the static integral are silenced: they fire at every instant before the waves
     arrive, where K is zero.
     """
     if not dyn.disc.scene.tips:
         return {}
-    ops = _CACHE.get(dyn)
-    if ops is None:
-        ops = _CACHE[dyn] = TipOperators(dyn)
+    ops = _operators(dyn, None)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         return ops.estimates(np.asarray(u, float))

@@ -35,7 +35,7 @@ from numba import njit
 from ..methods.efg import EFG
 from ..problem.history import Stepping
 from ..problem.scene import Scene
-from .dsif import quasi_static_dsif
+from .dsif import dynamic_dsif
 from .output import Recorder
 from .result import DynamicSolution
 from .system import Dynamics, dynamics, fit_coefficients, stable_step
@@ -170,7 +170,7 @@ def _progress(enabled: bool, total: int):
 
 def integrate(scene: Scene, method: EFG, stepping: Stepping | None = None, *,
               dyn: Dynamics | None = None, state: State | None = None, steps: int | None = None,
-              dsif=quasi_static_dsif, out=None, progress: bool | None = None,
+              dsif=dynamic_dsif, out=None, progress: bool | None = None,
               critical: tuple[float, float] | None = None) -> DynamicSolution:
     """Integrate a dynamic scene in time by central differences (module docstring).
 
@@ -192,7 +192,8 @@ def integrate(scene: Scene, method: EFG, stepping: Stepping | None = None, *,
         The dynamic SIF hook, called at every output instant as
         ``dsif(dyn, u, v, a, t) -> {estimate: ndarray (n_tips, 2)}`` with the coefficients
         of displacement, velocity and acceleration at ``t``
-        (default :func:`~efgkit.explicit.dsif.quasi_static_dsif`); None: no SIFs.
+        (default :data:`~efgkit.explicit.dsif.dynamic_dsif`: J', interaction with inertia,
+        near-tip stresses); None: no SIFs.
     out : path, optional
         Directory for the VTU time series (``stepping.vtu``).
     progress : bool, optional

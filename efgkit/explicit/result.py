@@ -12,6 +12,9 @@ from ..solution import method_record
 
 __all__ = ["DynamicSolution"]
 
+# sifs entries that are not (K_I, K_II): their two columns (explicit.dsif.DYNAMIC_ESTIMATES)
+_COLUMNS = {"J_prime": ("J1", "J2"), "spread": ("J", "interaction"), "J_prime_domains": ("J1", "J2")}
+
 
 @dataclass(frozen=True, eq=False)
 class DynamicSolution:
@@ -24,7 +27,8 @@ class DynamicSolution:
     history : dict
         ``t, kinetic, strain, work, balance, drift (n_out,)``, ``step (n_out,)``, probe
         ``u, v (n_out, n_probes, 2)`` and ``stress (n_out, n_probes, 3)``, ``probes
-        (n_probes, 2)``, ``sifs`` {estimate: (n_out, n_tips, 2)} (K_I, K_II per tip),
+        (n_probes, 2)``, ``sifs`` {estimate: (n_out, n_tips, 2)} (K_I, K_II per tip;
+        ``J_prime``: J'_1, J'_2; ``spread``: of the J' and interaction K over the domains),
         ``vtu`` (the ``.pvd`` file or None).
     state : State
         The final state (restart from it with ``integrate(..., state=...)``).
@@ -74,7 +78,8 @@ class DynamicSolution:
         hist = {k: h[k] for k in ("t", "step", "kinetic", "strain", "work", "balance", "drift")}
         hist["probes"] = {"x": h["probes"], "u": h["u"], "v": h["v"], "stress": h["stress"]}
         hist["sifs"] = {"tips": [t.id for t in self.scene.tips],
-                        **{k: {"KI": v[..., 0], "KII": v[..., 1]} for k, v in h["sifs"].items()}}
+                        **{k: dict(zip(_COLUMNS.get(k, ("KI", "KII")), (v[..., 0], v[..., 1]),
+                                       strict=True)) for k, v in h["sifs"].items()}}
         out = {"scene": self.scene.name, "duration": self.scene.duration,
                "method": {"kind": "efg", **method_record(self.method)}, **self.sizes(),
                "timings": dict(self.timings), "time": dict(self.info), "history": hist,
@@ -93,6 +98,8 @@ class DynamicSolution:
                  f"energy    kinetic {h['kinetic'][-1]:.6e}, strain {h['strain'][-1]:.6e}, "
                  f"work {h['work'][-1]:.6e}; modified-energy balance drift {i['energy_drift']:.2e}"]
         for key, val in h["sifs"].items():
+            if key in _COLUMNS:
+                continue
             for k, tip in enumerate(self.scene.tips):
                 j = int(np.argmax(np.abs(val[:, k, 0])))
                 lines.append(f"K {key:<12}{tip.id}: K_I peak {val[j, k, 0]:.5g} at t = {h['t'][j]:.4g}"
@@ -125,6 +132,8 @@ class DynamicSolution:
             k += 1
         if len(h["sifs"]):
             for key, val in h["sifs"].items():
+                if key in _COLUMNS:  # J' and spreads are no K
+                    continue
                 for j, tip in enumerate(self.scene.tips):
                     axes[k, 0].plot(h["t"], val[:, j, 0], label=f"K_I {key} {tip.id}")
                     axes[k, 0].plot(h["t"], val[:, j, 1], "--", label=f"K_II {key} {tip.id}")

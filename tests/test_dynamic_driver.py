@@ -1,0 +1,95 @@
+"""The dynamic J' and DSIF wired into the explicit driver (efgkit.explicit.dsif)."""
+
+import numpy as np
+import pytest
+
+from efgkit import EFG, Crack, Domain, Elastic, Scene, Support, Traction
+from efgkit.explicit import DynamicDSIF, dynamic_dsif, integrate, quasi_static_dsif
+from efgkit.explicit.dsif import DYNAMIC_ESTIMATES
+from efgkit.problem.history import Heaviside, Stepping
+
+MAT = Elastic(1000.0, 0.3, "strain", rho=1.0)
+
+
+@pytest.fixture(scope="module")
+def run():
+    """Edge-cracked 2 x 1 plate, pressurised crack and a Heaviside pull on top and bottom,
+    recorded 9 times; every hook evaluated on the same instants."""
+    scene = Scene(Domain.rectangle(0, 0, 2, 1), MAT,
+                  cracks=(Crack([[0.0, 0.5], [1.0, 0.5]], tips=(False, True), pressure=0.5),),
+                  supports=(Support("left", ux=0.0),),
+                  tractions=(Traction("top", (0.0, 1.0), history=Heaviside()),
+                             Traction("bottom", (0.0, -1.0), history=Heaviside())), duration=0.2)
+    radii = (0.3, 0.375, 0.45)
+    hooks = {"default": dynamic_dsif, "quasi_static": quasi_static_dsif,
+             "dynamic": DynamicDSIF(radii=radii, domains=True),
+             "no_inertia": DynamicDSIF(radii=radii, inertia=False),
+             "no_faces": DynamicDSIF(radii=radii, face_terms=False)}
+    out = {k: {} for k in hooks}
+
+    def every(dyn, u, v, a, t):
+        for name, hook in hooks.items():
+            for key, val in hook(dyn, u, v, a, t).items():
+                out[name].setdefault(key, []).append(val)
+        return {}
+
+    sol = integrate(scene, EFG(spacing=0.25), Stepping(output_interval=0.025), dsif=every)
+    return {k: {"t": sol.t, "sifs": {key: np.array(v) for key, v in d.items()}}
+            for k, d in out.items()}
+
+
+def test_default_hook_gives_every_estimate_side_by_side(run):
+    s = run["default"]["sifs"]
+    assert tuple(s) == DYNAMIC_ESTIMATES
+    n = len(run["default"]["t"])
+    assert all(v.shape == (n, 1, 2) and np.all(np.isfinite(v)) for v in s.values())
+    # mode I by symmetry: K_II of J' and interaction vanish to rounding
+    assert np.abs(s["interaction"][:, 0, 1]).max() < 1e-9 * np.abs(s["interaction"][:, 0, 0]).max()
+    # J'_1 = (kappa + 1) / (8 mu) K_I^2 at V = 0 (seed 002 Eqs. 33, 35)
+    m = MAT
+    assert np.allclose(s["J_prime"][:, 0, 0], (m.kappa + 1) / (8 * m.mu) * s["J"][:, 0, 0] ** 2,
+                       rtol=1e-10, atol=1e-14)
+
+
+def test_j_of_each_domain(run):
+    s = run["dynamic"]["sifs"]
+    assert s["J_prime_domains"].shape == (len(run["dynamic"]["t"]), 1, 3, 2)
+    assert np.allclose(s["J_prime_domains"].mean(axis=2), s["J_prime"], rtol=1e-12, atol=1e-15)
+
+
+def test_without_inertia_the_interaction_is_the_static_one(run):
+    # the same operators, radii and faces as the quasi-static hook: the interaction integral
+    # without the inertia term is the static one of fracture.sif.tip_result
+    a = run["no_inertia"]["sifs"]["interaction"]
+    b = run["quasi_static"]["sifs"]["interaction"]
+    assert np.allclose(a, b, rtol=1e-9, atol=1e-9 * np.abs(b).max())
+
+
+def test_inertia_term_makes_j_path_independent(run):
+    # J' is path independent only with its inertia term (seed 002 Eq. 31); J' and the
+    # interaction integral (two different integrands) then agree
+    dyn, stat = run["dynamic"]["sifs"], run["no_inertia"]["sifs"]
+    late = run["dynamic"]["t"] > 0.1  # the waves have reached the tip
+    s_dyn, s_stat = dyn["spread"][late, 0, 0], stat["spread"][late, 0, 0]
+    assert s_dyn.max() < 0.02 and np.median(s_stat) > 3 * np.median(s_dyn)
+    KJ, KI = dyn["J"][late, 0, 0], dyn["interaction"][late, 0, 0]
+    assert np.abs(KJ - KI).max() < 0.02 * np.abs(KI).max()
+
+
+def test_face_term_of_j_is_needed_on_a_pressurised_crack(run):
+    # without the face term -t_i u_i,1 q the pressure's work is missed by a share that grows
+    # with the radius: J' depends on the domain
+    late = run["dynamic"]["t"] > 0.1
+    with_f = run["dynamic"]["sifs"]["spread"][late, 0, 0]
+    without = run["no_faces"]["sifs"]["spread"][late, 0, 0]
+    assert np.median(without) > 3 * np.median(with_f)
+
+
+@pytest.mark.parametrize("kw, err, match", [
+    (dict(radii=(0.1, 0.2)), ValueError, "at least three finite radii > 0"),
+    (dict(radii=(0.1, 0.2, -0.3)), ValueError, "at least three finite radii > 0"),
+    (dict(radii=("a", 0.2, 0.3)), TypeError, "radii must be a sequence of numbers"),
+])
+def test_hook_errors(kw, err, match):
+    with pytest.raises(err, match=match):
+        DynamicDSIF(**kw)

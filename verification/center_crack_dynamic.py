@@ -1,0 +1,299 @@
+"""Centre-cracked plate under step tension and step shear: dynamic K(t) (seed 002 Sect. 4.1,
+seed 000 Sect. 5.1).
+
+Plate 104 x 40 mm (seed 000: 2 x 52 by 2 x 20 mm) with a central crack of half-length
+``a0 = 12 mm``, Heaviside tractions on the top and bottom edges: tension ``sigma0`` (mode I,
+E = 75.6 GPa, nu = 0.286) or shear ``tau0`` (mode II, E = 73.5 GPa, nu = 0.25), both
+rho = 2450 kg/m^3, ``sigma0 = tau0 = 0.1 MPa``, plane strain (seed 002 Table 1; seed 000:
+mu = 29.4 GPa, the same mode-I material). Units: mm, N, MPa, tonne/mm^3, s (E = 75600 MPa,
+rho = 2.45e-9 tonne/mm^3, speeds in mm/s). No supports: the tensile load is
+self-equilibrated; the shear one carries a couple, which turns the plate slowly as a rigid
+body (a rotation does not enter K).
+
+Discretisation (seed 002): 105 x 42 regular nodes (spacing 1 mm in x, 40/41 mm in y, so no
+node lies on the crack line), support radius ``r_I = 2.5 dx`` (``d_max = 2.5``), no tip
+enrichment and no refinement zones (the seed's grid), diffraction rule, 4 x 4 Gauss points
+on 1 mm cells, ``dt = 0.1 us``. Full mode adds a grid twice as fine (209 x 83, dt = 0.05 us).
+The MLPG test radius ``r_s = 1.1 dx`` and the seed's 8 x 8 area / 16 line points of its
+J' quadrature belong to MLPG (its rows come when MLPG is merged); EFG integrates J' over
+its own Gauss points in discs of radii ``R = 2, 2.5, 3, 3.5, 4 mm`` (the seed's path
+radius 3 mm in the middle), with the crack-face terms.
+
+Reported: ``K / (sigma0 sqrt(pi a0))`` against time (J', interaction with inertia,
+near-tip stresses at 0 and 90 degrees, mean of both tips), its peaks, the instant the tip
+first feels the load against the P-wave travel time ``20 mm / c_d`` = 3.16 us (c_d = 6327
+m/s): that is the physical arrival. Seed 000's "about 2.5 us" matches what a meshless
+model shows instead: a small precursor ahead of the front (supports of several spacings,
+coupled within one explicit step) makes K non-zero before 3.16 us, at 2.6 us on the
+seed's grid and 2.8 us at 0.5 mm (full record), moving towards 3.16 us as the grid is
+refined. Also the path dependence of J' over the
+radii (metric ``path_dependence``, ``max_r J'(R) - min_r J'(R)`` over ``|J'(3 mm)|``, largest
+over the instants where K is above a quarter of its peak; target 1 %; seed 002: 2.4 % and
+1.8 %). Early-time check, mode I: the step waves from the top and bottom edges (``sigma_yy =
+sigma0`` behind each front) meet on the crack plane at ``t_a = 20 mm / c_d``, where the
+uncracked stress doubles to ``2 sigma0``; by superposition the crack then sees a suddenly
+applied face pressure ``2 sigma0``, and until waves from the other tip (``2 a0 / c_d``
+after ``t_a``) or from the plate's corners (44.7 mm from the tip: 7.07 us) arrive, Freund's
+semi-infinite crack holds: ``K_I = 4 sigma0 sqrt(c_d (t - t_a) (1 - 2 nu) / pi) / (1 - nu)``.
+Checked over the second half of that window.
+
+Full mode also runs the slanted crack of seed 002 Sect. 4.2 (:func:`run_slanted`; mixed
+mode, E = 75.6 GPa, nu = 0.286, dt = 0.1 us, 20 us): the path dependence of J'_1 and J'_2
+(seed: 0.6 % and 3.1 %) and the K_I, K_II histories of every estimate.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+from _report import Report
+
+from efgkit import EFG, Crack, Domain, Elastic, Scene, Traction
+from efgkit.explicit import DynamicDSIF, dynamics, integrate, stable_step
+from efgkit.problem.history import Heaviside, Stepping
+
+NAME = "center_crack_dynamic"
+TITLE = "Centre-cracked plate under step tension and shear: dynamic K(t) (seed 002 Sect. 4.1)"
+HALF_W, HALF_H, A0, LOAD = 52.0, 20.0, 12.0, 0.1  # mm, mm, mm, MPa
+RHO = 2450e-12  # tonne/mm^3 (2450 kg/m^3)
+CASES = {"mode_I": (Elastic(75600.0, 0.286, "strain", rho=RHO), (0.0, LOAD)),
+         "mode_II": (Elastic(73500.0, 0.25, "strain", rho=RHO), (LOAD, 0.0))}
+RADII = (2.0, 2.5, 3.0, 3.5, 4.0)  # mm; the seed's path radius 3 mm in the middle
+US = 1e-6  # s
+TARGET = 0.01  # issue [dynamics]: path dependence within 1 %
+ESTIMATES = ("J", "interaction", "stress_0", "stress_90")
+
+
+def grid(nx: int, ny: int) -> np.ndarray:
+    """Regular nodes (nx * ny, 2) over the plate, row by row."""
+    X, Y = np.meshgrid(np.linspace(-HALF_W, HALF_W, nx), np.linspace(-HALF_H, HALF_H, ny))
+    return np.column_stack([X.ravel(), Y.ravel()])
+
+
+# discretisations: name -> (nx, ny) -> method (MLPG: one more entry)
+METHODS = {"efg": lambda nx, ny: EFG(spacing=2 * HALF_W / (nx - 1), coordinates=grid(nx, ny),
+                                     d_max=2.5, zones=(), enrichment="none")}
+
+
+def scene(case: str, duration: float) -> Scene:
+    mat, t = CASES[case]
+    return Scene(Domain.rectangle(-HALF_W, -HALF_H, HALF_W, HALF_H), mat, name=case,
+                 cracks=(Crack([[-A0, 0.0], [A0, 0.0]]),), duration=duration,
+                 tractions=(Traction("top", t, history=Heaviside()),
+                            Traction("bottom", (-t[0], -t[1]), history=Heaviside())))
+
+
+def freund_k(t: np.ndarray, mat: Elastic) -> np.ndarray:
+    """K_I of the two plane step waves striking the crack (module docstring), (n,)."""
+    ta = HALF_H / mat.c_dilatational
+    return 4 * LOAD * np.sqrt(mat.c_dilatational * np.clip(t - ta, 0, None) * (1 - 2 * mat.nu)
+                              / math.pi) / (1 - mat.nu)
+
+
+def run(case: str, method: str, nx: int, ny: int, dt: float, duration: float,
+        every: float, radii=RADII) -> dict:
+    """One run; ``radii`` of the J' discs (mm), the path dependence against the middle one."""
+    sc = scene(case, duration)
+    m = METHODS[method](nx, ny)
+    t0 = time.perf_counter()
+    dyn = dynamics(sc, m)
+    dtc, lam = stable_step(dyn)
+    sol = integrate(sc, m, Stepping(dt=dt, output_interval=every), dyn=dyn, critical=(dtc, lam),
+                    dsif=DynamicDSIF(radii=radii, domains=True))
+    t = sol.t
+    mat = sc.material
+    norm = LOAD * math.sqrt(math.pi * A0)
+    comp = 0 if case == "mode_I" else 1
+    s = sol.history["sifs"]
+    out = {"t_us": t / US, "dt_critical_us": dtc / US, "dt_us": dt / US, "n_dofs": dyn.n_dofs,
+           "steps": sol.info["steps"], "seconds": time.perf_counter() - t0, "K": {}, "peaks": {}}
+    for key in ESTIMATES:  # mean of the two tips (equal by symmetry), normalised
+        k = np.abs(s[key][:, :, comp]).mean(axis=1) / norm
+        out["K"][key] = {"K_I": s[key][:, :, 0].mean(axis=1) / norm,
+                         "K_II": s[key][:, :, 1].mean(axis=1) / norm}
+        j = int(np.argmax(k))
+        out["peaks"][key] = {"value": float(k[j]), "t_us": float(t[j] / US)}
+    kJ = np.abs(s["J"][:, :, comp]).mean(axis=1) / norm
+    near = np.abs(s["stress_0"][:, :, comp]).mean(axis=1) / norm
+    out["first_felt_us"] = {key: float(t[np.argmax(v > 0.01)] / US) if np.any(v > 0.01) else None
+                            for key, v in (("J", kJ), ("stress_0", near))}
+    out["travel_time_us"] = HALF_H / (mat.c_dilatational if case == "mode_I" else mat.c_shear) / US
+    # path dependence of J'_1 (the only non-zero component in a pure mode) over the radii
+    Jd = sol.history["sifs"]["J_prime_domains"][:, 0, :, 0]  # (n_out, n_radii), tip 1
+    big = kJ >= 0.25 * kJ.max()
+    dep = (Jd[big].max(axis=1) - Jd[big].min(axis=1)) / np.abs(Jd[big, len(radii) // 2])
+    out["path_dependence"] = float(dep.max())
+    out["J1_domains"] = Jd
+    if case == "mode_I":
+        ta = HALF_H / mat.c_dilatational
+        win = (t > ta + 0.5 * 2 * A0 / mat.c_dilatational) & (t < ta + 2 * A0 / mat.c_dilatational)
+        ref = freund_k(t, mat)
+        out["early_time_error"] = {key: float(np.max(np.abs(
+            np.abs(s[key][win, :, 0]).mean(axis=1) / ref[win] - 1))) if np.any(win) else None
+            for key in ESTIMATES}
+        out["K_freund"] = ref / norm
+    return out
+
+
+# Sect. 4.2: the slanted crack. Figure 7 is missing from the text: the plate is taken as
+# 44 x 32 mm, so that the 45 x 33 regular nodes are 1 mm apart; the crack runs from the
+# bottom edge at (6.5, 0) to the tip (22.5, 16) (a0 = 22.63 mm, 45 degrees); hinged supports
+# (u = 0) on the bottom, right and top edges, the step tension on the left edge.
+SLANT = dict(size=(44.0, 32.0), nodes=(45, 33), crack=((6.5, 0.0), (22.5, 16.0)))
+
+
+def run_slanted(method: str, dt: float, duration: float, every: float, radii=RADII) -> dict:
+    """The mixed-mode slanted crack (seed 002 Sect. 4.2): K_I, K_II histories and the path
+    dependence of J'_1 and J'_2."""
+    from efgkit import Support
+
+    (w, h), (nx, ny), (a, b) = SLANT["size"], SLANT["nodes"], SLANT["crack"]
+    mat = CASES["mode_I"][0]
+    sc = Scene(Domain.rectangle(0.0, 0.0, w, h), mat, name="slanted", duration=duration,
+               cracks=(Crack([a, b], tips=(False, True)),),
+               supports=tuple(Support(e, ux=0.0, uy=0.0) for e in ("bottom", "right", "top")),
+               tractions=(Traction("left", (-LOAD, 0.0), history=Heaviside()),))
+    X, Y = np.meshgrid(np.linspace(0, w, nx), np.linspace(0, h, ny))
+    m = EFG(spacing=w / (nx - 1), coordinates=np.column_stack([X.ravel(), Y.ravel()]),
+            d_max=2.5, zones=(), enrichment="none") if method == "efg" else None
+    t0 = time.perf_counter()
+    dyn = dynamics(sc, m)
+    dtc, lam = stable_step(dyn)
+    hooks = {"full": DynamicDSIF(radii=radii, domains=True),
+             "no_face_term": DynamicDSIF(radii=radii, domains=True, face_terms=False)}
+    got = {k: [] for k in hooks}
+
+    def every_hook(dyn, u, v, a, t):  # both hooks on the same states
+        for k, hook in hooks.items():
+            got[k].append(hook(dyn, u, v, a, t))
+        return {}
+
+    sol = integrate(sc, m, Stepping(dt=dt, output_interval=every), dyn=dyn, critical=(dtc, lam),
+                    dsif=every_hook)
+    t = sol.t
+    s = {key: np.array([g[key] for g in got["full"]]) for key in got["full"][0]}
+    a0 = math.dist(a, b)
+    norm = LOAD * math.sqrt(math.pi * a0)
+    out = {"t_us": t / US, "dt_us": dt / US, "dt_critical_us": dtc / US, "a0_mm": a0,
+           "n_dofs": dyn.n_dofs, "seconds": time.perf_counter() - t0, "path_dependence": {},
+           "K": {key: {"K_I": s[key][:, 0, 0] / norm, "K_II": s[key][:, 0, 1] / norm}
+                 for key in ESTIMATES}}
+    Jd = s["J_prime_domains"][:, 0]  # (n_out, n_radii, 2)
+    out["J_domains"] = Jd
+    out["J_domains_no_face_term"] = np.array([g["J_prime_domains"][0] for g in got["no_face_term"]])
+    out["K"]["J_no_face_term"] = {"K_I": np.array([g["J"][0, 0] for g in got["no_face_term"]]) / norm,
+                                  "K_II": np.array([g["J"][0, 1] for g in got["no_face_term"]]) / norm}
+    out["path_dependence_no_face_term"] = {}
+    for c, name in ((0, "J1"), (1, "J2")):
+        for key, J in (("path_dependence", Jd), ("path_dependence_no_face_term",
+                                                 out["J_domains_no_face_term"])):
+            ref = J[:, len(radii) // 2, c]
+            big = np.abs(ref) >= 0.25 * np.abs(ref).max()
+            out[key][name] = float(np.max(np.ptp(J[big, :, c], axis=1) / np.abs(ref[big])))
+    return out
+
+
+def _lists(obj):
+    if isinstance(obj, dict):
+        return {k: _lists(v) for k, v in obj.items()}
+    return obj.tolist() if isinstance(obj, np.ndarray) else obj
+
+
+def main(quick: bool = False, out_dir=None) -> dict:
+    rep = Report(NAME, quick)
+    if quick:  # coarse (2 mm) and short: mode I until the early-time window closes
+        grids = {"53x21": (53, 21, 0.2 * US)}  # the radii scale with the spacing (x 2)
+        duration, every, cases, radii = 7.0 * US, 0.4 * US, ("mode_I",), tuple(2 * r for r in RADII)
+    else:
+        grids = {"105x42": (105, 42, 0.1 * US), "209x83": (209, 83, 0.05 * US)}
+        duration, every, cases, radii = 14.0 * US, 0.2 * US, tuple(CASES), RADII
+    m = {"path_dependence": {}, "runs": {}}
+    for case in cases:
+        for method in METHODS:
+            for gname, (nx, ny, dt) in grids.items():
+                r = run(case, method, nx, ny, dt, duration, every, radii)
+                key = f"{case}/{method}/{gname}"
+                m["runs"][key] = r
+                m["path_dependence"][f"{key}/J1"] = r["path_dependence"]
+    if not quick:
+        r = run_slanted("efg", 0.1 * US, 20.0 * US, every)
+        m["runs"]["slanted/efg/45x33"] = r
+        for c, v in r["path_dependence"].items():
+            m["path_dependence"][f"slanted/efg/45x33/{c}"] = v
+    finest = list(grids)[-1]
+    for key, v in m["path_dependence"].items():
+        if finest in key or quick:
+            # quick: 2 mm spacing, radii 4-8 mm; measured 4.8 %
+            rep.check(f"{key}: path dependence of J' over the radii", v, "<=",
+                      0.1 if quick else TARGET)
+    for key, r in m["runs"].items():
+        if "early_time_error" in r:
+            rep.check(f"{key}: K_J against Freund's step-wave K_I (early-time window)",
+                      r["early_time_error"]["J"], "<=", 0.12 if quick else 0.05)  # quick: 4.3 %
+    m["settings"] = {"plate_mm": [2 * HALF_W, 2 * HALF_H], "a0_mm": A0, "load_MPa": LOAD,
+                     "rho": RHO, "units": "mm, N, MPa, tonne/mm^3, s", "radii_mm": radii,
+                     "d_max": 2.5, "grids": {g: list(v[:2]) + [v[2] / US] for g, v in grids.items()},
+                     "duration_us": duration / US, "output_us": every / US,
+                     "c_d_mode_I": CASES["mode_I"][0].c_dilatational,
+                     "c_s_mode_II": CASES["mode_II"][0].c_shear}
+    rep.metrics.update(_lists(m))
+    rep.ref("path_dependence", TARGET, "issue [dynamics] target 1 %; seed 002 Sect. 4.1: 2.4 % "
+            "(mode I) and 1.8 % (mode II) against tipR = 3 mm")
+    rep.ref("travel_time_us", 20.0 / 6.327, "20 mm / c_d, c_d = 6327 m/s (seed 000 quotes ~2.5 us)")
+    rep.ref("K_I early", "2 sigma0 sqrt(c_d (t - t_a) (1 - 2 nu) / pi) / (1 - nu)",
+            "Freund, Dynamic Fracture Mechanics (1990): a step wave on a semi-infinite crack")
+    return rep.write(out_dir)
+
+
+def markdown(r: dict) -> list[str]:
+    m = r["metrics"]
+    s = m["settings"]
+    rows = ["| run | dt (us) | dt_c (us) | peak K/(s0 sqrt(pi a0)): J' / interaction / stress 0 / "
+            "stress 90 (t us) | first felt (J', stress 0) / travel time (us) | path dependence "
+            "| early-time error (J', interaction) |", "|---|---|---|---|---|---|---|"]
+    for key, v in m["runs"].items():
+        if key.startswith("slanted"):
+            continue
+        pk = " / ".join(f"{v['peaks'][e]['value']:.3f} ({v['peaks'][e]['t_us']:.1f})"
+                        for e in ("J", "interaction", "stress_0", "stress_90"))
+        ff = {k: "-" if x is None else f"{x:.2f}" for k, x in v["first_felt_us"].items()}
+        et = v.get("early_time_error")
+        early = "-" if not et else f"{et['J']:.1%}, {et['interaction']:.1%}"
+        rows.append(f"| {key} | {v['dt_us']:g} | {v['dt_critical_us']:.3f} | {pk} | "
+                    f"{ff['J']}, {ff['stress_0']} / {v['travel_time_us']:.2f} | "
+                    f"{v['path_dependence']:.2%} | {early} |")
+    return [f"Plate {s['plate_mm'][0]:g} x {s['plate_mm'][1]:g} mm, a0 = {s['a0_mm']:g} mm, step "
+            f"load {s['load_MPa']} MPa on top and bottom; units {s['units']}; d_max "
+            f"{s['d_max']}, no enrichment or zones; J' discs R = {s['radii_mm']} mm; histories "
+            f"to {s['duration_us']:g} us. First felt: the first output where the normalised K "
+            "exceeds 0.01 (the meshless supports and the explicit step let a small precursor "
+            "run ahead of the front, so it comes before the travel time, 20 mm / c_d in mode I "
+            "and 20 mm / c_s in mode II, and moves towards it as the grid is refined). "
+            "Early-time error: against Freund's K_I for the doubled step stress "
+            "(module docstring), second half of the window before the other tip's wave.",
+            "", *rows, *_slanted_lines(m)]
+
+
+def _slanted_lines(m: dict) -> list[str]:
+    v = m["runs"].get("slanted/efg/45x33")
+    if v is None:
+        return []
+    K = {e: (np.array(v["K"][e]["K_I"]), np.array(v["K"][e]["K_II"])) for e in ESTIMATES}
+    j = int(np.argmax(np.abs(K["interaction"][0])))
+    at = ", ".join(f"{e} ({K[e][0][j]:.3f}, {K[e][1][j]:.3f})" for e in ESTIMATES)
+    pd = v["path_dependence"]
+    return ["", f"Slanted crack (Sect. 4.2; plate 44 x 32 mm, 45 x 33 nodes, crack (6.5, 0)-"
+            f"(22.5, 16), a0 = {v['a0_mm']:.2f} mm, hinged bottom, right and top edges, step "
+            f"tension on the left, dt = {v['dt_us']:g} us): path dependence of J'_1 "
+            f"{pd['J1']:.1%}, of J'_2 {pd['J2']:.1%} (seed: 0.6 % and 3.1 %). At the peak of "
+            f"the interaction K_I (t = {v['t_us'][j]:.1f} us), (K_I, K_II) / (sigma0 sqrt(pi "
+            f"a0)): {at}. J'_2 is not path independent here: its face term holds W on both "
+            "faces, which the discretisation (no enrichment, 1 mm) resolves poorly near the "
+            "tip, and the split of J'_1 into K_I and K_II by Eq. 38 fails; the interaction "
+            "integral gives the mixed-mode history. Without the face term (on the same "
+            f"states) the path dependence of J'_2 is {v['path_dependence_no_face_term']['J2']:.1%}"
+            f" and K from J' at that instant ({v['K']['J_no_face_term']['K_I'][j]:.3f}, "
+            f"{v['K']['J_no_face_term']['K_II'][j]:.3f}); the face term is exact in the "
+            "continuum, so this points at the near-tip W on the faces."]
