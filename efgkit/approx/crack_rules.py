@@ -56,6 +56,7 @@ __all__ = ["CRACK_RULES", "CrackLines", "CrackRule", "crack_distances", "crack_w
 TIP_SNAP = 1e-7  # nodes closer than this fraction of their support radius to a tip are at it
 SIGHT_OFFSET = 1e-7  # split nodes look from this fraction of their support radius off the crack
 CANDIDATE_SLACK = 1e-6  # relative slack of the candidate test (rounding of grazing crossings)
+MOUTH_REACH = 1e-4  # a crack reaches this fraction of d_mI past its mouth (its sight tests)
 
 
 @dataclass(frozen=True)
@@ -171,11 +172,15 @@ def _cross(u, v):
     return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
 
 
-def _crossings(xq, xn, lines: CrackLines, s: int):
+def _crossings(xq, xn, lines: CrackLines, s: int, reach=0.0):
     """Whether [x_I, x] crosses segment ``s``, and the crossing parameter t with dt/dx.
 
-    ``xq, xn (P, 2)`` (``xn`` the nodes' sight positions). Returns hit (P,),
-    t (P,), dt (P, 2).
+    ``xq, xn (P, 2)`` (``xn`` the nodes' sight positions). At a mouth (an end that
+    is not a tip) the segment is prolonged by ``reach`` (scalar or (P,), a length)
+    outside the body: a split node at the mouth looks from a point up to
+    ``SIGHT_OFFSET d_mI`` outside the body when the crack meets the boundary at an
+    angle, and its rays that pass outside the body around the mouth must still
+    cross the crack. Returns hit (P,), t (P,), dt (P, 2).
     """
     a, b = lines.a[s], lines.b[s]
     # differences scaled by 2^-p ~ 1 / length (exact): dt forms 4th powers of lengths (overflow)
@@ -196,8 +201,9 @@ def _crossings(xq, xn, lines: CrackLines, s: int):
     first, last = s == 0 or lines.crack[s - 1] != k, s == lines.n - 1 or lines.crack[s + 1] != k
     # open at a tip; an interior vertex belongs to the segment that starts there, so a line
     # through a kink crosses the polyline once, not twice
-    lo = (t > 0) if (first and lines.is_tip[k, 0]) else (t >= 0)
-    hi = (t <= 1) if (last and not lines.is_tip[k, 1]) else (t < 1)
+    ext = np.asarray(reach) / lines.length[s]
+    lo = (t > 0) if (first and lines.is_tip[k, 0]) else (t >= -ext) if first else (t >= 0)
+    hi = (t <= 1 + ext) if (last and not lines.is_tip[k, 1]) else (t < 1)
     return (side_x != side_n) & lo & hi, t, dt
 
 
@@ -315,7 +321,7 @@ def crack_distances(xq, xn, dm, I, nodes: NodeCloud, lines: CrackLines, rule: Cr
     for s, idx in enumerate(segment_candidates(xq, sight, lines)):
         if len(idx) == 0:
             continue
-        hit, t, dt = _crossings(xq[idx], sight[idx], lines, s)
+        hit, t, dt = _crossings(xq[idx], sight[idx], lines, s, MOUTH_REACH * dm[idx])
         on, inside, tn = _nodes_on_line(xn[idx], dm[idx], lines, s)
         hit &= ~on | inside  # a node on the line beyond the segment meets the line only at itself
         if not hit.any():
