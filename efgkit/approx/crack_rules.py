@@ -23,6 +23,11 @@ Conventions that make every test deterministic:
 * nodes split on a crack (``NodeCloud.face``, ``face_segment``) look from
   ``1e-7 d_mI`` off the crack on their face (at a kink vertex, into their face's
   sector), so ordinary crossing tests separate the two copies;
+* a crack reaches ``1e-4 d_mI`` past a mouth (an end that is not a tip): where the crack
+  meets the boundary at an angle, a mouth node's copy looks from a point just outside
+  the body, and without this its rays passing outside the body around the mouth reached
+  the other face in a wedge as wide as the angle between the crack and the boundary's
+  normal (edge crack at 7 degrees: energy 14 % low, docs/robustness.md);
 * nodes within ``1e-7 d_mI`` of a tip are taken to be at the tip, so that a
   tip moved by a tiny amount across a node changes nothing;
 * a node within ``1e-7 d_mI`` of a segment's line meets that line only at itself: beyond
@@ -207,10 +212,12 @@ def _crossings(xq, xn, lines: CrackLines, s: int, reach=0.0):
     return (side_x != side_n) & lo & hi, t, dt
 
 
-def segment_candidates(xq: np.ndarray, xn: np.ndarray, lines: CrackLines) -> list[np.ndarray]:
+def segment_candidates(xq: np.ndarray, xn: np.ndarray, lines: CrackLines, reach=0.0
+                       ) -> list[np.ndarray]:
     """The pairs that may cross each crack segment: those whose bounding box meets the
     segment's (a necessary condition; the boxes are grown by ``CANDIDATE_SLACK`` of the
-    lengths for rounding), found run by run of segments (:meth:`CrackLines.chunks`).
+    lengths for rounding, and by ``reach``), found run by run of segments
+    (:meth:`CrackLines.chunks`).
 
     Parameters
     ----------
@@ -218,13 +225,15 @@ def segment_candidates(xq: np.ndarray, xn: np.ndarray, lines: CrackLines) -> lis
         The pairs' points and the positions the nodes look from.
     lines : CrackLines
         The m crack segments.
+    reach : float or ndarray, shape (P,)
+        How far past its mouth a crack reaches in the tests (:func:`crack_distances`).
 
     Returns
     -------
     list of ndarray
         m sorted arrays of pair indices into ``xq`` (int, shape (k_s,)).
     """
-    pad = CANDIDATE_SLACK * (np.hypot(*(xq - xn).T) + lines.length.max())
+    pad = CANDIDATE_SLACK * (np.hypot(*(xq - xn).T) + lines.length.max()) + reach
     (x0, y0), (x1, y1) = np.minimum(xq, xn).T - pad, np.maximum(xq, xn).T + pad
     slo, shi = np.minimum(lines.a, lines.b), np.maximum(lines.a, lines.b)
     out = []
@@ -318,10 +327,11 @@ def crack_distances(xq, xn, dm, I, nodes: NodeCloud, lines: CrackLines, rule: Cr
     sc = np.full(len(I), np.inf)  # transparency: arc distance of the crossing from the tip
     dsc = np.zeros((len(I), 2))
     split = np.zeros(len(I), bool) if nodes.face is None else nodes.face[I] != 0
-    for s, idx in enumerate(segment_candidates(xq, sight, lines)):
+    reach = MOUTH_REACH * dm
+    for s, idx in enumerate(segment_candidates(xq, sight, lines, reach)):
         if len(idx) == 0:
             continue
-        hit, t, dt = _crossings(xq[idx], sight[idx], lines, s, MOUTH_REACH * dm[idx])
+        hit, t, dt = _crossings(xq[idx], sight[idx], lines, s, reach[idx])
         on, inside, tn = _nodes_on_line(xn[idx], dm[idx], lines, s)
         hit &= ~on | inside  # a node on the line beyond the segment meets the line only at itself
         if not hit.any():
