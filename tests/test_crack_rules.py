@@ -374,7 +374,7 @@ def test_candidate_prefilter_is_exact_on_a_polyline_of_many_segments(key, monkey
     cand = crack_rules.segment_candidates(xq, xn, lines)
     assert sum(map(len, cand)) < 0.05 * len(xq) * lines.n  # the work that is left
     monkeypatch.setattr(crack_rules, "segment_candidates",
-                        lambda xq, xn, lines: [np.arange(len(xq))] * lines.n)
+                        lambda xq, xn, lines, reach=0.0: [np.arange(len(xq))] * lines.n)
     every = crack_rules.crack_distances(xq, xn, dm, I, nodes, lines, rule)
     touched = got[0] | (got[1] > np.hypot(*(xq - xn).T) * (1 + 1e-12))  # cut or lengthened
     assert touched.sum() > 1000 and (nodes.face != 0).sum() == 8  # 4 split nodes, one at the kink
