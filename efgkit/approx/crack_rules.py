@@ -23,6 +23,11 @@ Conventions that make every test deterministic:
 * nodes split on a crack (``NodeCloud.face``, ``face_segment``) look from
   ``1e-7 d_mI`` off the crack on their face (at a kink vertex, into their face's
   sector), so ordinary crossing tests separate the two copies;
+* a crack reaches ``1e-4 d_mI`` past a mouth (an end that is not a tip): where the crack
+  meets the boundary at an angle, a mouth node's copy looks from a point just outside
+  the body, and without this its rays passing outside the body around the mouth reached
+  the other face in a wedge as wide as the angle between the crack and the boundary's
+  normal (edge crack at 7 degrees: energy 14 % low, docs/robustness.md);
 * nodes within ``1e-7 d_mI`` of a tip are taken to be at the tip, so that a
   tip moved by a tiny amount across a node changes nothing;
 * a node within ``1e-7 d_mI`` of a segment's line meets that line only at itself: beyond
@@ -49,6 +54,7 @@ import numpy as np
 from ..methods.efg import CRACK_RULES
 from ..nodes import NodeCloud
 from ..search import Neighbours
+from .crack_lines import CrackLines
 
 __all__ = ["CRACK_RULES", "CrackLines", "CrackRule", "crack_distances", "crack_weights",
            "pair_arrays", "padded_weights", "segment_candidates", "wrap_distance"]
@@ -56,6 +62,7 @@ __all__ = ["CRACK_RULES", "CrackLines", "CrackRule", "crack_distances", "crack_w
 TIP_SNAP = 1e-7  # nodes closer than this fraction of their support radius to a tip are at it
 SIGHT_OFFSET = 1e-7  # split nodes look from this fraction of their support radius off the crack
 CANDIDATE_SLACK = 1e-6  # relative slack of the candidate test (rounding of grazing crossings)
+MOUTH_REACH = 1e-4  # a crack reaches this fraction of d_mI past its mouth (its sight tests)
 
 
 @dataclass(frozen=True)
@@ -90,92 +97,19 @@ class CrackRule:
             raise ValueError(f"transparency needs power (lambda) >= 2 (seed 003 Eq. 32), got {self.power!r}")
 
 
-@dataclass(frozen=True, eq=False)
-class CrackLines:
-    """All crack segments of a scene as arrays (segment index = global order).
-
-    Attributes
-    ----------
-    a, b : ndarray (m, 2)
-        Segment ends, in polyline order.
-    crack : ndarray (m,) int
-        Crack of each segment (cracks in scene order, so ``crack`` is sorted).
-    start, length : ndarray (m,)
-        Arc length of ``a`` from the crack's first vertex, and segment length.
-    ends : ndarray (n_cracks, 2, 2)
-        First and last vertex of every crack.
-    is_tip : ndarray (n_cracks, 2) bool
-        Which of those ends are tips.
-    total : ndarray (n_cracks,)
-        Crack lengths.
-    """
-
-    a: np.ndarray
-    b: np.ndarray
-    crack: np.ndarray
-    start: np.ndarray
-    length: np.ndarray
-    ends: np.ndarray
-    is_tip: np.ndarray
-    total: np.ndarray
-
-    @classmethod
-    def from_cracks(cls, cracks) -> CrackLines:
-        seg = [c.segments for c in cracks]
-        ln = [np.linalg.norm(s[:, 1] - s[:, 0], axis=1) for s in seg]
-        return cls(np.concatenate([s[:, 0] for s in seg]), np.concatenate([s[:, 1] for s in seg]),
-                   np.concatenate([np.full(len(s), k) for k, s in enumerate(seg)]),
-                   np.concatenate([np.cumsum(v) - v for v in ln]), np.concatenate(ln),
-                   np.array([[c.vertices[0], c.vertices[-1]] for c in cracks]),
-                   np.array([c.tips for c in cracks], bool), np.array([v.sum() for v in ln]))
-
-    @property
-    def n(self) -> int:
-        return len(self.a)
-
-    def chunks(self) -> list[tuple[slice, np.ndarray, np.ndarray]]:
-        """About sqrt(m) runs of consecutive segments with their bounding boxes: (segments,
-        lower corner (2,), upper corner (2,)) each; the prefilters of the crossing and distance
-        tests, so that their cost grows with the segments near a point, not with all m."""
-        lo, hi = np.minimum(self.a, self.b), np.maximum(self.a, self.b)
-        size = max(1, round(np.sqrt(self.n)))
-        return [(slice(k, k + size), lo[k:k + size].min(axis=0), hi[k:k + size].max(axis=0))
-                for k in range(0, self.n, size)]
-
-    def distance(self, x: np.ndarray) -> np.ndarray:
-        """Distance of points ``x (n, 2)`` to the nearest crack segment, shape (n,).
-
-        A run of segments (:meth:`chunks`) is measured only for the points whose distance to
-        its box does not exceed the farthest-corner distance of the nearest box (an upper
-        bound of the answer)."""
-        x = np.asarray(x, dtype=float).reshape(-1, 2)
-        out = np.full(len(x), np.inf)
-        runs = self.chunks()
-        near = np.stack([np.hypot(*np.maximum(np.maximum(lo - x, x - hi), 0.0).T) for _, lo, hi in runs])
-        far = np.stack([np.hypot(*np.maximum(np.abs(x - lo), np.abs(x - hi)).T) for _, lo, hi in runs])
-        bound = far.min(axis=0)
-        for (segs, _, _), lb in zip(runs, near, strict=True):
-            pts = np.flatnonzero(lb <= bound)
-            for a, b in zip(self.a[segs], self.b[segs], strict=True):
-                ab, xp = b - a, x[pts]
-                t = np.clip((xp - a) @ ab / (ab @ ab), 0.0, 1.0)
-                out[pts] = np.minimum(out[pts], np.hypot(*(xp - a - t[:, None] * ab).T))
-        return out
-
-    def tip_positions(self) -> np.ndarray:
-        """Positions of all tips, shape (n_tips, 2)."""
-        return self.ends[self.is_tip]
-
-
 def _cross(u, v):
     return u[..., 0] * v[..., 1] - u[..., 1] * v[..., 0]
 
 
-def _crossings(xq, xn, lines: CrackLines, s: int):
+def _crossings(xq, xn, lines: CrackLines, s: int, reach=0.0):
     """Whether [x_I, x] crosses segment ``s``, and the crossing parameter t with dt/dx.
 
-    ``xq, xn (P, 2)`` (``xn`` the nodes' sight positions). Returns hit (P,),
-    t (P,), dt (P, 2).
+    ``xq, xn (P, 2)`` (``xn`` the nodes' sight positions). At a mouth (an end that
+    is not a tip) the segment is prolonged by ``reach`` (scalar or (P,), a length)
+    outside the body: a split node at the mouth looks from a point up to
+    ``SIGHT_OFFSET d_mI`` outside the body when the crack meets the boundary at an
+    angle, and its rays that pass outside the body around the mouth must still
+    cross the crack. Returns hit (P,), t (P,), dt (P, 2).
     """
     a, b = lines.a[s], lines.b[s]
     # differences scaled by 2^-p ~ 1 / length (exact): dt forms 4th powers of lengths (overflow)
@@ -196,15 +130,18 @@ def _crossings(xq, xn, lines: CrackLines, s: int):
     first, last = s == 0 or lines.crack[s - 1] != k, s == lines.n - 1 or lines.crack[s + 1] != k
     # open at a tip; an interior vertex belongs to the segment that starts there, so a line
     # through a kink crosses the polyline once, not twice
-    lo = (t > 0) if (first and lines.is_tip[k, 0]) else (t >= 0)
-    hi = (t <= 1) if (last and not lines.is_tip[k, 1]) else (t < 1)
+    ext = np.asarray(reach) / lines.length[s]
+    lo = (t > 0) if (first and lines.is_tip[k, 0]) else (t >= -ext) if first else (t >= 0)
+    hi = (t <= 1 + ext) if (last and not lines.is_tip[k, 1]) else (t < 1)
     return (side_x != side_n) & lo & hi, t, dt
 
 
-def segment_candidates(xq: np.ndarray, xn: np.ndarray, lines: CrackLines) -> list[np.ndarray]:
+def segment_candidates(xq: np.ndarray, xn: np.ndarray, lines: CrackLines, reach=0.0
+                       ) -> list[np.ndarray]:
     """The pairs that may cross each crack segment: those whose bounding box meets the
     segment's (a necessary condition; the boxes are grown by ``CANDIDATE_SLACK`` of the
-    lengths for rounding), found run by run of segments (:meth:`CrackLines.chunks`).
+    lengths for rounding, and by ``reach``), found run by run of segments
+    (:meth:`CrackLines.chunks`).
 
     Parameters
     ----------
@@ -212,13 +149,15 @@ def segment_candidates(xq: np.ndarray, xn: np.ndarray, lines: CrackLines) -> lis
         The pairs' points and the positions the nodes look from.
     lines : CrackLines
         The m crack segments.
+    reach : float or ndarray, shape (P,)
+        How far past its mouth a crack reaches in the tests (:func:`crack_distances`).
 
     Returns
     -------
     list of ndarray
         m sorted arrays of pair indices into ``xq`` (int, shape (k_s,)).
     """
-    pad = CANDIDATE_SLACK * (np.hypot(*(xq - xn).T) + lines.length.max())
+    pad = CANDIDATE_SLACK * (np.hypot(*(xq - xn).T) + lines.length.max()) + reach
     (x0, y0), (x1, y1) = np.minimum(xq, xn).T - pad, np.maximum(xq, xn).T + pad
     slo, shi = np.minimum(lines.a, lines.b), np.maximum(lines.a, lines.b)
     out = []
@@ -312,10 +251,11 @@ def crack_distances(xq, xn, dm, I, nodes: NodeCloud, lines: CrackLines, rule: Cr
     sc = np.full(len(I), np.inf)  # transparency: arc distance of the crossing from the tip
     dsc = np.zeros((len(I), 2))
     split = np.zeros(len(I), bool) if nodes.face is None else nodes.face[I] != 0
-    for s, idx in enumerate(segment_candidates(xq, sight, lines)):
+    reach = MOUTH_REACH * dm
+    for s, idx in enumerate(segment_candidates(xq, sight, lines, reach)):
         if len(idx) == 0:
             continue
-        hit, t, dt = _crossings(xq[idx], sight[idx], lines, s)
+        hit, t, dt = _crossings(xq[idx], sight[idx], lines, s, reach[idx])
         on, inside, tn = _nodes_on_line(xn[idx], dm[idx], lines, s)
         hit &= ~on | inside  # a node on the line beyond the segment meets the line only at itself
         if not hit.any():
