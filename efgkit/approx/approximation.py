@@ -133,8 +133,10 @@ class Approximation:
         out[rows, nb.idx[rows, cols]] = w[rows, cols]
         return out
 
-    def shape(self, x: np.ndarray, derivatives: bool = True) -> Shape:
-        """Shape functions (and the enrichment operators) at points ``x (n, 2)``.
+    def shape(self, x: np.ndarray, derivatives: bool = True,
+              neighbours: Neighbours | None = None) -> Shape:
+        """Shape functions (and the enrichment operators) at points ``x (n, 2)``;
+        ``neighbours`` of ``x`` found before (:func:`~efgkit.search.find_neighbours`) are used.
 
         Examples
         --------
@@ -148,7 +150,7 @@ class Approximation:
         x = np.atleast_2d(np.asarray(x, dtype=float))
         if x.ndim != 2 or x.shape[1] != 2:
             raise ValueError(f"x must have shape (n_points, 2), got {x.shape}")
-        nb = find_neighbours(x, self.nodes, self.boxes)
+        nb = find_neighbours(x, self.nodes, self.boxes) if neighbours is None else neighbours
         rows = self.cracked_rows(x, nb)
         if len(rows) == 0:
             sh = self._mls(x, nb, derivatives)

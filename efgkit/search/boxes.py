@@ -1,0 +1,141 @@
+"""Box grids of the neighbour search: uniform, and nonuniform by seed 000 Sect. 4.1.
+
+Both are stacks of strips of square boxes (the seed's "the uniform box search algorithm
+can be viewed as a special case of the nonuniform one"): a uniform grid has one box side
+for all strips, a nonuniform one a side per strip set by the supports that reach the
+strip. Every node is registered in each box its support disc touches, so a point's
+candidates are the members of its own box.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..nodes import NodeCloud
+from .kernels import locate, register, strip_edges
+
+__all__ = ["BoxGrid", "KINDS", "SPREAD"]
+
+KINDS = ("auto", "uniform", "nonuniform")
+# Largest over median support radius up to which one box side serves all nodes ("auto").
+SPREAD = 1.5
+
+
+@dataclass(frozen=True, eq=False)
+class BoxGrid:
+    """Nodes registered in the boxes their supports touch.
+
+    Attributes
+    ----------
+    axis : int
+        The strips are stacked along this axis (0: x, 1: y), the longer extent of the
+        supports (seed 000 Sect. 4.1 step 1).
+    edges : ndarray, shape (n_strips + 1,)
+        Strip boundaries along ``axis``; strip ``s`` is ``[edges[s], edges[s + 1])``.
+    side : ndarray, shape (n_strips,)
+        Box side in each strip (equal to the strip's width).
+    offset : ndarray, shape (n_strips + 1,), int
+        First box of each strip; ``offset[-1]`` boxes in all.
+    lo : float
+        Start of the boxes along the other axis.
+    start : ndarray, shape (n_boxes + 1,), int
+        CSR pointers into ``members``.
+    members : ndarray, shape (n_registrations,), int
+        Nodes of each box, ascending.
+    kind : {"uniform", "nonuniform"}
+        The kind built.
+    """
+
+    axis: int
+    edges: np.ndarray
+    side: np.ndarray
+    offset: np.ndarray
+    lo: float
+    start: np.ndarray
+    members: np.ndarray
+    kind: str = "uniform"
+
+    @classmethod
+    def build(cls, nodes: NodeCloud, size: float | None = None, kind: str = "auto",
+              factor: float = 1.0) -> BoxGrid:
+        """Register ``nodes`` in a uniform or nonuniform box grid.
+
+        Parameters
+        ----------
+        nodes : NodeCloud
+        size : float, optional
+            Box side of a uniform grid (default ``factor * max(radius)``, the seed's 2 h_max).
+        kind : {"auto", "uniform", "nonuniform"}
+            "auto": uniform when the largest radius is at most SPREAD times the median,
+            nonuniform otherwise. "nonuniform": strip ``s`` has side ``factor * max{d_mI : the support of I
+            reaches strip s}`` (seed 000 Sect. 4.1 steps 2-5 with h-bar = that largest
+            smoothing length; the seed's side 2 h-bar is the support radius: factor 1).
+        factor : float
+            Box side over the largest support radius reaching the box.
+
+        Examples
+        --------
+        >>> from efgkit.nodes import NodeCloud
+        >>> x = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 4.0]])
+        >>> g = BoxGrid.build(NodeCloud(x, np.array([0.5, 0.5, 2.0]), np.ones(3, bool)),
+        ...                   kind="nonuniform")
+        >>> g.axis, g.side.min() < g.side.max()
+        (1, True)
+        """
+        if kind not in KINDS:
+            raise ValueError(f"kind must be one of {KINDS}, got {kind!r}")
+        if not (np.isfinite(factor) and factor > 0):
+            raise ValueError(f"factor must be a positive number, got {factor!r}")
+        x = np.ascontiguousarray(nodes.x, dtype=float)
+        r = np.ascontiguousarray(nodes.radius, dtype=float)
+        if len(x) == 0:
+            raise ValueError("nodes is empty: a box grid needs at least one node")
+        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(r)) and np.all(r > 0)):
+            raise ValueError("nodes must have finite coordinates and positive finite radii; "
+                             f"got {int((~np.isfinite(x)).any(axis=1).sum())} non-finite "
+                             f"coordinates and {int((~(r > 0) | ~np.isfinite(r)).sum())} bad radii")
+        if kind == "auto" and size is not None:
+            kind = "uniform"
+        if kind == "auto":
+            kind = "uniform" if r.max() <= SPREAD * np.median(r) \
+                else "nonuniform"
+        low = (x - r[:, None]).min(axis=0)
+        high = (x + r[:, None]).max(axis=0)
+        axis = 1 if high[1] - low[1] >= high[0] - low[0] else 0
+        other = 1 - axis
+        a_lo, a_hi = float(low[axis]), float(high[axis])
+        if kind == "uniform":
+            h = factor * float(r.max()) if size is None else float(size)
+            if not (np.isfinite(h) and h > 0):
+                raise ValueError(f"size must be a positive number, got {size!r}")
+            n = max(1, math.ceil((a_hi - a_lo) / h))
+            edges = a_lo + h * np.arange(n + 1)
+            if edges[-1] <= a_hi:  # round-off: the last strip must hold a_hi's neighbourhood
+                edges = np.append(edges, edges[-1] + h)
+        else:
+            n_bins = int(min(max(64, 8 * math.sqrt(len(x))), 1 << 16))
+            edges = strip_edges(x[:, axis], r, a_lo, a_hi, float(factor), n_bins)
+        side = np.diff(edges)
+        if kind == "uniform":
+            side = np.full(len(side), h)
+        o_lo, o_hi = float(low[other]), float(high[other])
+        per = np.floor((o_hi - o_lo) / side).astype(np.int64) + 1
+        offset = np.concatenate([[0], np.cumsum(per)]).astype(np.int64)
+        start, members = register(x, r, axis, edges, side, offset, o_lo)
+        return cls(axis, edges, side, offset, o_lo, start, members, kind)
+
+    @property
+    def n_boxes(self) -> int:
+        return int(self.offset[-1])
+
+    @property
+    def n_strips(self) -> int:
+        return len(self.side)
+
+    def box_of(self, x: np.ndarray) -> np.ndarray:
+        """Box index of points ``x (n, 2)``, shape (n,); -1 outside the grid."""
+        x = np.ascontiguousarray(x, dtype=float).reshape(-1, 2)
+        return locate(x, self.axis, self.edges, self.side, self.offset, self.lo)
