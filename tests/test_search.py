@@ -96,6 +96,15 @@ def test_any_box_size_gives_the_graph(kind, box_size):
     np.testing.assert_array_equal(a[1], b[1])
 
 
+@pytest.mark.parametrize("kind", ["uniform", "nonuniform"])
+@pytest.mark.parametrize("name", ["efg_zone", "seed000_m5", "line", "duplicates"])
+def test_compiled_and_numpy_registration_agree(kind, name):
+    a = BoxGrid.build(CLOUDS[name], kind=kind, backend="numba")
+    b = BoxGrid.build(CLOUDS[name], kind=kind, backend="numpy")
+    np.testing.assert_array_equal(a.start, b.start)
+    np.testing.assert_array_equal(a.members, b.members)
+
+
 def test_nonuniform_boxes_follow_the_local_support():
     """Seed 000 Sect. 4.1: box side 2 h-bar, the largest smoothing length reaching the strip;
     in the finest zone (support 3 / m) the boxes are 8 times smaller than in the coarsest."""
@@ -134,6 +143,7 @@ def test_research_interval_of_seed_000():
     (lambda n: BoxGrid.build(n, -1.0), "size must be a positive number"),
     (lambda n: BoxGrid.build(cloud([[0.0, 0.0]], 0.0)), "positive finite radii"),
     (lambda n: BoxGrid.build(cloud(np.zeros((0, 2)), 1.0)), "nodes is empty"),
+    (lambda n: BoxGrid.build(n, backend="gpu"), "backend must be one of"),
     (lambda n: research_interval(0.0, 1.0), "h must be a positive number"),
     (lambda n: research_interval(1.0, 1.0, psi=-1.0), "psi must be a positive number"),
     (lambda n: research_interval(1.0, np.inf), "u_max must be finite"),

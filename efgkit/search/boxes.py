@@ -14,8 +14,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..jit import resolve_backend
 from ..nodes import NodeCloud
-from .kernels import locate, register, strip_edges
+from .kernels import register, strip_edges
 
 __all__ = ["BoxGrid", "KINDS", "SPREAD"]
 
@@ -60,7 +61,7 @@ class BoxGrid:
 
     @classmethod
     def build(cls, nodes: NodeCloud, size: float | None = None, kind: str = "auto",
-              factor: float = 1.0) -> BoxGrid:
+              factor: float = 1.0, backend: str = "auto") -> BoxGrid:
         """Register ``nodes`` in a uniform or nonuniform box grid.
 
         Parameters
@@ -75,6 +76,9 @@ class BoxGrid:
             smoothing length; the seed's side 2 h-bar is the support radius: factor 1).
         factor : float
             Box side over the largest support radius reaching the box.
+        backend : {"auto", "numba", "numpy"}
+            Registration by the compiled kernel or in numpy (the same lists;
+            :func:`efgkit.jit.resolve_backend` on the number of nodes).
 
         Examples
         --------
@@ -99,9 +103,9 @@ class BoxGrid:
                              f"coordinates and {int((~(r > 0) | ~np.isfinite(r)).sum())} bad radii")
         if kind == "auto" and size is not None:
             kind = "uniform"
-        if kind == "auto":
-            kind = "uniform" if r.max() <= SPREAD * np.median(r) \
-                else "nonuniform"
+        if kind == "auto":  # small clouds: uniform, built without compiled kernels
+            kind = "uniform" if r.max() <= SPREAD * np.median(r) or \
+                resolve_backend("auto", len(x)) == "numpy" else "nonuniform"
         low = (x - r[:, None]).min(axis=0)
         high = (x + r[:, None]).max(axis=0)
         axis = 1 if high[1] - low[1] >= high[0] - low[0] else 0
@@ -124,7 +128,10 @@ class BoxGrid:
         o_lo, o_hi = float(low[other]), float(high[other])
         per = np.floor((o_hi - o_lo) / side).astype(np.int64) + 1
         offset = np.concatenate([[0], np.cumsum(per)]).astype(np.int64)
-        start, members = register(x, r, axis, edges, side, offset, o_lo)
+        if resolve_backend(backend, len(x)) == "numba":
+            start, members = register(x, r, axis, edges, side, offset, o_lo)
+        else:
+            start, members = _register_numpy(x, r, axis, edges, side, offset, o_lo)
         return cls(axis, edges, side, offset, o_lo, start, members, kind)
 
     @property
@@ -137,5 +144,37 @@ class BoxGrid:
 
     def box_of(self, x: np.ndarray) -> np.ndarray:
         """Box index of points ``x (n, 2)``, shape (n,); -1 outside the grid."""
-        x = np.ascontiguousarray(x, dtype=float).reshape(-1, 2)
-        return locate(x, self.axis, self.edges, self.side, self.offset, self.lo)
+        x = np.asarray(x, dtype=float).reshape(-1, 2)
+        a, c = x[:, self.axis], x[:, 1 - self.axis]
+        s = np.clip(np.searchsorted(self.edges, a, side="right") - 1, 0, self.n_strips - 1)
+        j = np.floor((c - self.lo) / self.side[s])
+        ok = (a >= self.edges[0]) & (a < self.edges[-1]) & (j >= 0) & \
+            (j < self.offset[s + 1] - self.offset[s])
+        return np.where(ok, self.offset[s] + np.where(ok, j, 0).astype(np.int64), -1)
+
+
+def _register_numpy(x, r, axis, edges, side, offset, lo):
+    """The registration of :func:`efgkit.search.kernels.register` in numpy (same result)."""
+    other = 1 - axis
+    a, c, rr = x[:, axis], x[:, other], r * (1.0 + 1e-9)  # grown as in the kernel
+    last = np.nextafter(edges[-1], -np.inf)
+    s0 = np.searchsorted(edges, np.maximum(a - rr, edges[0]), side="right") - 1
+    s1 = np.searchsorted(edges, np.minimum(a + rr, last), side="right") - 1
+    node = np.repeat(np.arange(len(x)), s1 - s0 + 1)  # (node, strip) pairs
+    strip = np.arange(len(node)) - np.repeat(np.cumsum(s1 - s0 + 1) - (s1 - s0 + 1), s1 - s0 + 1) \
+        + s0[node]
+    h, per = side[strip], offset[strip + 1] - offset[strip]
+    i0 = np.maximum(0, np.floor((c[node] - rr[node] - lo) / h).astype(np.int64))
+    i1 = np.minimum(per - 1, np.floor((c[node] + rr[node] - lo) / h).astype(np.int64))
+    n = np.maximum(i1 - i0 + 1, 0)
+    pair = np.repeat(np.arange(len(node)), n)  # (node, strip, box) triples
+    j = np.arange(len(pair)) - np.repeat(np.cumsum(n) - n, n) + i0[pair]
+    I, st, hh = node[pair], strip[pair], h[pair]
+    ca = np.clip(a[I], edges[st], edges[st + 1])
+    cc = np.clip(c[I], lo + j * hh, lo + (j + 1) * hh)
+    touch = (ca - a[I]) ** 2 + (cc - c[I]) ** 2 < rr[I] * rr[I]
+    box, I = (offset[st] + j)[touch], I[touch]
+    order = np.argsort(box, kind="stable")  # nodes ascending within a box
+    start = np.zeros(offset[-1] + 1, np.int64)
+    np.cumsum(np.bincount(box, minlength=offset[-1]), out=start[1:])
+    return start, I[order].astype(np.int64)

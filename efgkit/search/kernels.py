@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-__all__ = ["strip_edges", "register", "locate", "count_neighbours", "fill_padded", "fill_csr"]
+__all__ = ["strip_edges", "register", "count_neighbours", "fill_padded", "fill_csr"]
 
 
 @njit(cache=True)
@@ -121,20 +121,6 @@ def register(x, r, axis, edges, side, offset, lo):
     cursor = start[:-1].copy()
     _visit(x, r, axis, edges, side, offset, lo, cursor, members, True)
     return start, members
-
-
-@njit(cache=True, parallel=True)
-def locate(x, axis, edges, side, offset, lo):
-    """Box of each point ``x (n, 2)``, shape (n,); -1 outside the grid."""
-    other = 1 - axis
-    box = np.full(len(x), -1, np.int64)
-    for q in prange(len(x)):
-        s = _strip_of(edges, x[q, axis])
-        if s >= 0:
-            j = int(np.floor((x[q, other] - lo) / side[s]))
-            if 0 <= j < offset[s + 1] - offset[s]:
-                box[q] = offset[s] + j
-    return box
 
 
 @njit(cache=True, parallel=True)

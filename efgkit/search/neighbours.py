@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import numba
 import numpy as np
 
+from ..jit import resolve_backend
 from ..nodes import NodeCloud
 from .boxes import SPREAD, BoxGrid
 from .kdtree import kdtree_lists
@@ -30,9 +31,6 @@ __all__ = ["Neighbours", "BoxGrid", "METHODS", "choose_method", "find_neighbours
            "neighbour_lists"]
 
 METHODS = ("auto", "uniform", "nonuniform", "kdtree")
-# Below this many (point, node) candidate tests the tree needs no compiled kernel and is
-# as fast; above it the boxes win (benchmarks/search.py).
-SMALL = 2_000
 # Fewer points than this are searched by one thread: below it the parallel region's
 # start and barrier cost more than they save, the more so on a machine shared by many jobs.
 PARALLEL = 100_000
@@ -65,10 +63,10 @@ class Neighbours:
 
 
 def choose_method(n_points: int, nodes: NodeCloud) -> str:
-    """The ``"auto"`` method: ``"kdtree"`` for small problems (fewer than SMALL points or
-    nodes), ``"uniform"`` boxes when the largest support radius is at most SPREAD times the
-    median, ``"nonuniform"`` boxes for graded clouds."""
-    if min(n_points, nodes.n) < SMALL:
+    """The ``"auto"`` method: ``"kdtree"`` below :data:`efgkit.jit.COMPILED_MIN` points
+    (no kernel to compile), ``"uniform"`` boxes when the largest support radius is at most
+    SPREAD times the median, ``"nonuniform"`` boxes for graded clouds."""
+    if resolve_backend("auto", n_points) == "numpy":
         return "kdtree"
     r = nodes.radius
     return "uniform" if r.max() <= SPREAD * np.median(r) else "nonuniform"
@@ -100,7 +98,8 @@ def _threads(n_points):
 
 
 def _grid(x, nodes, boxes, method):
-    if boxes is not None and method in ("auto", boxes.kind):
+    if boxes is not None and (method == boxes.kind or (
+            method == "auto" and resolve_backend("auto", len(x)) == "numba")):
         return boxes
     if method == "auto":
         method = choose_method(len(x), nodes)

@@ -21,6 +21,7 @@ from numba import njit, prange
 from scipy.sparse import bmat, bsr_array, csr_array, diags_array, vstack
 
 from ..approx.shape import Shape
+from ..jit import resolve_backend
 
 __all__ = ["stiffness", "load_vector", "lumped_mass", "point_to_function_map"]
 
@@ -183,7 +184,7 @@ def _interleave(ux: csr_array, uy: csr_array) -> csr_array:
 
 
 def stiffness(trial: Shape, w: np.ndarray, D: np.ndarray, test: Shape | None = None,
-              backend: str = "numba") -> csr_array:
+              backend: str = "auto") -> csr_array:
     """Stiffness matrix, csr_array (2 n_test, 2 n_trial), seed 003 Eq. (22a).
 
     Parameters
@@ -196,8 +197,9 @@ def stiffness(trial: Shape, w: np.ndarray, D: np.ndarray, test: Shape | None = N
         Constitutive matrix (Voigt, engineering shear).
     test : Shape, optional
         Test functions (default: the trial functions, Bubnov-Galerkin).
-    backend : {"numba", "numpy"}
-        Compiled row kernel or scipy.sparse reference (they agree to 1e-12).
+    backend : {"auto", "numba", "numpy"}
+        Compiled row kernel or scipy.sparse reference (they agree to 1e-12); "auto": numba
+        from :data:`efgkit.jit.COMPILED_MIN` quadrature points on.
 
     Examples
     --------
@@ -212,6 +214,7 @@ def stiffness(trial: Shape, w: np.ndarray, D: np.ndarray, test: Shape | None = N
     """
     test = trial if test is None else test
     w = np.asarray(w, dtype=float)
+    backend = resolve_backend(backend, trial.shape[0])
     if trial.extra is not None or test.extra is not None:
         if test is not trial:
             raise ValueError("enrichment unknowns are supported for Bubnov-Galerkin (test = trial) only")
@@ -224,8 +227,6 @@ def stiffness(trial: Shape, w: np.ndarray, D: np.ndarray, test: Shape | None = N
         raise ValueError("stiffness needs shape-function derivatives (derivatives=True)")
     if backend == "numpy":
         return _stiffness_numpy(test, trial, w, np.asarray(D, dtype=float))
-    if backend != "numba":
-        raise ValueError(f"backend must be 'numba' or 'numpy', got {backend!r}")
     import numba
 
     threads = numba.get_num_threads()
