@@ -86,11 +86,14 @@ class Approximation:
         rule can change)."""
         if (self.lines is None and self.holes is None) or len(x) == 0:
             return np.zeros(0, np.int64)
-        reach = np.where(nb.mask, self.nodes.radius[nb.idx], 0.0).max(axis=1)
         near = np.zeros(len(x), bool)
-        if self.lines is not None:
-            near |= self.lines.distance(x) < reach
+        if self.lines is not None:  # only points some support can reach a crack from
+            pts = self.lines.within(x, float(self.nodes.radius.max()))
+            reach = np.where(nb.mask[pts], self.nodes.radius[nb.idx[pts]], 0.0).max(axis=1,
+                                                                                     initial=0.0)
+            near[pts] = self.lines.distance(x[pts]) < reach
         if self.holes is not None:
+            reach = np.where(nb.mask, self.nodes.radius[nb.idx], 0.0).max(axis=1)
             near |= self.holes.distance(x) < reach
         return np.flatnonzero(near)
 
