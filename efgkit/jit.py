@@ -2,7 +2,7 @@
 
 Compiling a kernel costs seconds (tens on a loaded machine) the first time it is used
 after installation, and is cached after that; the compiled kernel saves about 10 us per
-point over numpy. Below COMPILED_MIN points a run is faster without compiling anything,
+point over numpy. Below COMPILED_MIN points (the quick-start example has 36k) a run is faster without compiling anything,
 so ``backend="auto"`` takes numpy there: the quick-start examples start without a
 compile, and large problems, where the kernels pay, compile them once.
 """
@@ -12,7 +12,7 @@ from __future__ import annotations
 __all__ = ["BACKENDS", "COMPILED_MIN", "resolve_backend"]
 
 BACKENDS = ("auto", "numba", "numpy")
-COMPILED_MIN = 100_000
+COMPILED_MIN = 50_000
 
 
 def resolve_backend(backend: str, n_points: int) -> str:

@@ -19,7 +19,7 @@ def scene():
 
 
 def test_stages_add_up_to_the_wall_time():
-    sc, method = scene(), EFG(spacing=0.2)
+    sc, method = scene(), EFG(spacing=0.25)
     t0 = time.perf_counter()
     sol = solve(sc, method)
     wall = time.perf_counter() - t0
@@ -32,7 +32,7 @@ def test_stages_add_up_to_the_wall_time():
 
 
 def test_a_given_discretisation_is_not_timed_again():
-    sc, method = scene(), EFG(spacing=0.2)
+    sc, method = scene(), EFG(spacing=0.25)
     disc = discretize(sc, method)
     t0 = time.perf_counter()
     sol = solve(sc, method, disc)

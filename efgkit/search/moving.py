@@ -50,7 +50,7 @@ def research_interval(h: float, u_max: float, psi: float = 0.1) -> Research:
     Examples
     --------
     >>> res = research_interval(h=0.15, u_max=3000.0)   # 0.1 * 0.15 / 6000
-    >>> float(res.dt), round(res.box_side, 12)
+    >>> round(res.dt, 15), round(res.box_side, 12)
     (2.5e-06, 0.315)
     """
     for name, v in (("h", h), ("psi", psi)):
