@@ -2,9 +2,10 @@
 
 Compiling a kernel costs seconds (tens on a loaded machine) the first time it is used
 after installation, and is cached after that; the compiled kernel saves about 10 us per
-point over numpy. Below COMPILED_MIN points (the quick-start example has 36k) a run is faster without compiling anything,
-so ``backend="auto"`` takes numpy there: the quick-start examples start without a
-compile, and large problems, where the kernels pay, compile them once.
+point over numpy. Below COMPILED_MIN points (the quick-start example has 36k) a run is
+faster without compiling anything, so ``backend="auto"`` takes numpy there: the
+quick-start examples start without a compile, and large problems, where the kernels
+pay, compile them once.
 """
 
 from __future__ import annotations

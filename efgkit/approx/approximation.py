@@ -158,17 +158,11 @@ class Approximation:
         if len(rows) == 0:
             sh = self._mls(x, nb, derivatives)
             mask, vals = nb.mask, [sh.values, sh.ddx, sh.ddy]
-        else:
+        else:  # all points as if crack-free, then the few near a crack redone under the
+            # rules: the arrays are allocated once (no zeros plus a copy of the plain rows)
             mask = nb.mask.copy()
-            vals = [np.zeros(nb.idx.shape) if derivatives or i == 0 else None for i in range(3)]
-            is_plain = np.ones(len(x), bool)
-            is_plain[rows] = False
-            plain = np.flatnonzero(is_plain)
-            if len(plain):
-                sp = self._mls(x[plain], nb.subset(plain), derivatives)
-                for v, r in zip(vals, (sp.values, sp.ddx, sp.ddy), strict=True):
-                    if v is not None:
-                        v[plain] = r
+            sp = self._mls(x, nb, derivatives)
+            vals = [sp.values, sp.ddx, sp.ddy]
             cw = self.sight_weights(x[rows], nb.subset(rows))
             sc = self._mls(x[rows], nb.subset(rows), derivatives, weights=cw)
             mask[rows] = cw[0]

@@ -259,7 +259,6 @@ def _with_enrichment(shape: Shape, w, D, backend) -> csr_array:
         raise ValueError("stiffness needs shape-function derivatives (derivatives=True)")
     eps = (e.gxx, e.gyy, csr_array(e.gxy + e.gyx))  # strain of each unknown, (n, n_extra)
     W = diags_array(w)
-    dxT, dyT = csr_array(shape.dx.T), csr_array(shape.dy.T)
     nf = shape.n_functions
     interleave = np.ravel(np.column_stack([np.arange(nf), nf + np.arange(nf)]))  # rows 2 I + c
 
@@ -267,10 +266,17 @@ def _with_enrichment(shape: Shape, w, D, backend) -> csr_array:
         return [csr_array(W @ sum(C[i, j] * eps[j] for j in range(3) if C[i, j] != 0))
                 for i in range(3)]
 
-    def nodal_rows(sig):  # sum_q B_I^T sig: (2 n_functions, n_extra)
-        kx = csr_array(dxT @ sig[0] + dyT @ sig[2])
-        ky = csr_array(dyT @ sig[1] + dxT @ sig[2])
-        return csr_array(vstack([kx, ky], format="csr")[interleave])
+    def nodal_rows(sig, chunk=131072):  # sum_q B_I^T sig: (2 n_functions, n_extra)
+        kx = ky = 0
+        for s in range(0, len(w), chunk):  # operators of a chunk of points at a time
+            part = slice(s, s + chunk)
+            sub = Shape(shape.neighbours.subset(part), shape.values[part], shape.ddx[part],
+                        shape.ddy[part], nf)
+            dxT, dyT = csr_array(sub.dx.T), csr_array(sub.dy.T)
+            sx, sy, sxy = (csr_array(a[part]) for a in sig)
+            kx = kx + dxT @ sx + dyT @ sxy
+            ky = ky + dyT @ sy + dxT @ sxy
+        return csr_array(vstack([csr_array(kx), csr_array(ky)], format="csr")[interleave])
 
     sig = stresses(D)
     K_ne = nodal_rows(sig)
