@@ -24,6 +24,7 @@ import numpy as np
 
 from ..nodes import NodeCloud
 from ..search import BoxGrid, Neighbours, find_neighbours
+from .crack_prefilter import points_near
 from .crack_rules import CrackLines, CrackRule, crack_distances, padded_weights, pair_arrays
 from .enrichment import INTRINSIC, Enrichment, blend_intrinsic, extra_columns
 from .hole_rules import Holes, hole_distances
@@ -88,7 +89,7 @@ class Approximation:
             return np.zeros(0, np.int64)
         near = np.zeros(len(x), bool)
         if self.lines is not None:  # only points some support can reach a crack from
-            pts = self.lines.within(x, float(self.nodes.radius.max()))
+            pts = points_near(self.lines, x, float(self.nodes.radius.max()))
             reach = np.where(nb.mask[pts], self.nodes.radius[nb.idx[pts]], 0.0).max(axis=1,
                                                                                      initial=0.0)
             near[pts] = self.lines.distance(x[pts]) < reach

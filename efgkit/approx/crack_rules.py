@@ -142,22 +142,6 @@ class CrackLines:
         return [(slice(k, k + size), lo[k:k + size].min(axis=0), hi[k:k + size].max(axis=0))
                 for k in range(0, self.n, size)]
 
-    def within(self, x: np.ndarray, radius: float) -> np.ndarray:
-        """Points of ``x (n, 2)`` closer than ``radius`` to the bounding box of some run of
-        segments (:meth:`chunks`), shape (m,) int: a superset of the points closer than
-        ``radius`` to a crack, the prefilter of the crack tests (the points no support of
-        radius <= ``radius`` around them reaches a crack from are left out)."""
-        x = np.asarray(x, dtype=float).reshape(-1, 2)
-        runs = self.chunks()
-        lo = np.min([b[1] for b in runs], axis=0) - radius  # all runs first: one cheap test
-        hi = np.max([b[2] for b in runs], axis=0) + radius
-        pts = np.flatnonzero(np.all((x > lo) & (x < hi), axis=1))
-        near = np.zeros(len(pts), bool)
-        for _, a, b in runs:
-            gap = np.maximum(np.maximum(a - x[pts], x[pts] - b), 0.0)
-            near |= np.hypot(*gap.T) < radius
-        return pts[near]
-
     def distance(self, x: np.ndarray) -> np.ndarray:
         """Distance of points ``x (n, 2)`` to the nearest crack segment, shape (n,).
 
