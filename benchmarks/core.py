@@ -15,6 +15,7 @@ from __future__ import annotations
 import argparse
 import json
 import platform
+import re
 import statistics
 import time
 from pathlib import Path
@@ -227,7 +228,11 @@ def main(argv=None) -> dict:
     res["sif"] = sif_integrals(41 if args.quick else 201, args.repeat)
     cmd = "python benchmarks/core.py" + (" --quick" if args.quick else "")
     if not args.no_write:
-        (ROOT / "docs" / "performance.md").write_text(markdown(res, cmd))
+        path = ROOT / "docs" / "performance.md"
+        # keep the sections other benchmarks write (<!-- begin:NAME --> ... <!-- end:NAME -->)
+        kept = re.findall(r"<!-- begin:\w+ -->.*?<!-- end:\w+ -->\n?", path.read_text(), re.S) \
+            if path.exists() else []
+        path.write_text(markdown(res, cmd) + "".join("\n" + k for k in kept))
         write_json(res, ROOT / "benchmarks" / "out" / "core.json")
     return res
 

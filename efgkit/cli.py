@@ -134,25 +134,22 @@ def _check_out(out: Path, given: bool) -> None:
         raise CLIError(f"{what}: no permission to write in {str(base)!r}; give another --out")
 
 
-def _write_outputs(sol, out: Path, name: str, samples: int, timings: dict,
-                   tips=()) -> list[Path]:
+def _write_outputs(sol, out: Path, name: str, samples: int, sw, tips=()) -> list[Path]:
     """Fields (VTU), the discretisation (node cloud VTU) and the figures (PNG: nodes, stress
     and, with crack tips, K against the J-domain radius); adds their timings."""
     from .io import nodes_path, write_figure
     from .plot import plot_domain_dependence
 
-    t0 = time.perf_counter()
     vtu = sol.write_vtu(out / f"{name}.vtu", n_target=samples)
     outputs = [vtu, nodes_path(vtu)]
-    timings["vtu"] = time.perf_counter() - t0
-    t0 = time.perf_counter()
+    sw.lap("vtu")
     figures = [("nodes", sol.plot_discretization),
                ("stress", lambda: sol.plot_stress(n_target=samples))]
     if tips:
         figures.append(("sif", lambda: plot_domain_dependence(tips)))
     for suffix, draw in figures:
         outputs.append(write_figure(draw(), out / f"{name}_{suffix}.png"))
-    timings["figures"] = time.perf_counter() - t0
+    sw.lap("figures")
     return outputs
 
 
@@ -166,16 +163,16 @@ def cmd_run(args) -> int:
     from .scenefile import load_study
     from .solution import method_record
     from .static import solve
+    from .timing import Stopwatch
 
     t_run = time.perf_counter()
-    timings = {}
-    t0 = time.perf_counter()
+    sw = Stopwatch()  # laps: stages that add up to the wall time, compilation apart
     try:
         scene, method = load_study(path)
     except (OSError, ValueError, TypeError, KeyError) as err:
         msg = _message(err)  # scene-file errors name the file already
         raise CLIError(msg if str(path) in msg else f"{path}: {msg}") from err
-    timings["load"] = time.perf_counter() - t0
+    sw.lap("load")
     name = file_name(scene.name if scene.name != "scene" else path.stem)
     out = Path(args.out) if args.out is not None else Path("out") / name
     _check_out(out, args.out is not None)
@@ -197,8 +194,7 @@ def cmd_run(args) -> int:
         return _run_dynamic(args, path, scene, method, out, name)
     with _stage(f"{path}: cannot solve", f"{path}: the solve failed"):
         sol = solve(scene, method)
-        timings.update({k: v for k, v in sol.timings.items() if k != "total"})
-        t0 = time.perf_counter()
+        sw.merge(sol.timings)
         energy = sol.strain_energy()
         res = sol.info.get("residual")
         if not math.isfinite(energy) or (isinstance(res, float) and not math.isfinite(res)):
@@ -208,24 +204,23 @@ def cmd_run(args) -> int:
                 "double precision (the energy squares the stresses); rescale the scene's units",
                 FAILED)
         errors = sol.errors() if scene.exact is not None else None
-        timings["post"] = time.perf_counter() - t0
+        sw.lap("post")
     tips = ()
     if scene.cracks or scene.symmetry is not None:  # a half model: the modelled tips
-        t0 = time.perf_counter()
         with warnings.catch_warnings(), _stage(  # each result carries its warnings
                 f"{path}: cannot compute the stress intensity factors",
                 f"{path}: the stress intensity factors failed"):
             warnings.simplefilter("ignore", UserWarning)
             tips = sol.sifs()
-        timings["sifs"] = time.perf_counter() - t0
+        sw.lap("sifs")
     try:
-        outputs = _write_outputs(sol, out, name, args.samples, timings, tips)
+        outputs = _write_outputs(sol, out, name, args.samples, sw, tips)
     except OSError as err:
         raise CLIError(f"cannot write to {str(out)!r}: {err}") from err
     except (ValueError, ArithmeticError) as err:
         raise CLIError(f"{path}: writing the fields and figures failed: {_message(err)}",
                        FAILED) from err
-    timings["total"] = time.perf_counter() - t_run
+    timings = sw.timings | {"total": time.perf_counter() - t_run}
 
     rep = {"scene": scene.name, "file": str(path), "method": method_record(sol.method),  # as solved
            **sol.sizes(), "timings": timings, "outputs": outputs,

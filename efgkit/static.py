@@ -29,6 +29,7 @@ from .system.auxiliary import AuxiliarySpace
 from .system.collocation import collocation
 from .system.constraints import eliminate, lagrange, modified_variational, penalty, rigid_body_modes
 from .system.linalg import solve as linear_solve
+from .timing import Stopwatch
 
 __all__ = ["DEFAULT_PENALTY", "DEFAULT_STABILISATION", "LOCKING_PENALTY", "auxiliary_space",
            "constrained_system", "solve"]
@@ -124,6 +125,7 @@ def solve(scene: Scene, method: EFG, disc: Discretization | None = None) -> Mesh
     0.002
     """
     t_all = time.perf_counter()
+    sw = Stopwatch()  # laps: stages that add up to the wall time, compilation apart
     method = method.for_scene(scene)  # the automatic choices (tip zones, enrichment, bc)
     if method.bc == "penalty" and (method.penalty or DEFAULT_PENALTY) >= LOCKING_PENALTY:
         warnings.warn(
@@ -132,25 +134,24 @@ def solve(scene: Scene, method: EFG, disc: Discretization | None = None) -> Mesh
             "that of bc='lagrange' at 1e6 and 11-68 times (0.10-0.22) from 1e8 on, where CG's answer "
             "(solver='amg') can no longer be trusted either. Remedy: the default penalty=None (1e3), "
             "or bc='lagrange'", UserWarning, stacklevel=2)
-    disc = discretize(scene, method) if disc is None else disc
-    timings = dict(disc.timings)
+    sw.lap("setup")
+    if disc is None:  # the discretisation's stages are this call's (a given one's are not)
+        disc = discretize(scene, method)
+        sw = Stopwatch(disc.timings | {k: v + disc.timings.get(k, 0.0) for k, v in sw.timings.items()})
     mat, m = scene.material, method
-    t0 = time.perf_counter()
     K = stiffness(disc.shape, disc.points.w, mat.D)
-    timings["stiffness"] = time.perf_counter() - t0
-    t0 = time.perf_counter()
+    sw.lap("stiffness")
     f = loads(disc)
-    timings["loads"] = time.perf_counter() - t0
-    t0 = time.perf_counter()
+    sw.lap("loads")
     system = constrained_system(disc, K, f, m)
-    timings["constraints"] = time.perf_counter() - t0
-    t0 = time.perf_counter()
+    sw.lap("constraints")
     modes = np.zeros((disc.n_dofs, 3))
     modes[: 2 * disc.nodes.n] = rigid_body_modes(disc.nodes.x)
     z, info = linear_solve(system, m.solver, near_nullspace=modes,
                                 auxiliary=lambda: auxiliary_space(disc), stiffness=K)
-    timings["solve"] = time.perf_counter() - t0
+    coefficients = system.coefficients(z)
     forces = system.support_forces(z) if system.support_forces is not None else None
-    timings["total"] = time.perf_counter() - t_all + sum(disc.timings.values())
-    return MeshlessSolution(disc, system.coefficients(z), info, timings,
+    sw.lap("solve")
+    timings = sw.timings | {"total": time.perf_counter() - t_all}
+    return MeshlessSolution(disc, coefficients, info, timings,
                             resolve=lambda coarse: solve(scene, coarse), support_forces=forces)

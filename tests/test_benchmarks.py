@@ -50,3 +50,29 @@ def test_time_to_target_interpolates_in_log_log():
     wobbly = [{"seconds": 1.0, "error": 1e-4}, {"seconds": 2.0, "error": 1e-2},
               {"seconds": 20.0, "error": 1e-4}]
     assert mod.time_to(wobbly)["seconds"] == pytest.approx(2.0 * 10**0.5)
+
+
+def _load(name):
+    spec = importlib.util.spec_from_file_location(f"bench_{name}", BENCH / f"{name}.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_search_benchmark_reproduces_the_layout_of_seed_000_table_1():
+    mod = _load("search")
+    res = mod.main(["--quick", "--repeat", "1", "--no-write", "--before", ""])
+    # seed 000 Table 1: N = 2,411 at dA = 1/10 mm and 9,321 at 1/20 mm
+    assert [r["N"] for r in res["rows"]] == [2411, 9321]
+    assert all(all(r["same_graph"].values()) for r in res["rows"])
+    assert "| 1/20 | 9321 (9321) |" in mod.markdown(res, "cmd")
+
+
+@pytest.mark.slow
+def test_scaling_benchmark_quick_runs():
+    mod = _load("scaling")
+    res = mod.main(["--quick", "--no-write"])
+    # Wilson 1969 (seed 003 Sect. 5.6.2): K_I = 34.0, K_II = 4.55; coarse sizes within 2 %
+    for r in res["rows"]:
+        assert abs(r["KI"] / 34.0 - 1) < 0.02 and abs(r["KII"] / 4.55 - 1) < 0.02
+        assert sum(r["stages_s"].values()) <= r["wall_s"] * 1.05

@@ -24,6 +24,7 @@ import numpy as np
 
 from ..nodes import NodeCloud
 from ..search import BoxGrid, Neighbours, find_neighbours
+from .crack_prefilter import points_near
 from .crack_rules import CrackLines, CrackRule, crack_distances, padded_weights, pair_arrays
 from .enrichment import INTRINSIC, Enrichment, blend_intrinsic, extra_columns
 from .hole_rules import Holes, hole_distances
@@ -86,11 +87,14 @@ class Approximation:
         rule can change)."""
         if (self.lines is None and self.holes is None) or len(x) == 0:
             return np.zeros(0, np.int64)
-        reach = np.where(nb.mask, self.nodes.radius[nb.idx], 0.0).max(axis=1)
         near = np.zeros(len(x), bool)
-        if self.lines is not None:
-            near |= self.lines.distance(x) < reach
+        if self.lines is not None:  # only points some support can reach a crack from
+            pts = points_near(self.lines, x, float(self.nodes.radius.max()))
+            reach = np.where(nb.mask[pts], self.nodes.radius[nb.idx[pts]], 0.0).max(axis=1,
+                                                                                     initial=0.0)
+            near[pts] = self.lines.distance(x[pts]) < reach
         if self.holes is not None:
+            reach = np.where(nb.mask, self.nodes.radius[nb.idx], 0.0).max(axis=1)
             near |= self.holes.distance(x) < reach
         return np.flatnonzero(near)
 
@@ -133,8 +137,10 @@ class Approximation:
         out[rows, nb.idx[rows, cols]] = w[rows, cols]
         return out
 
-    def shape(self, x: np.ndarray, derivatives: bool = True) -> Shape:
-        """Shape functions (and the enrichment operators) at points ``x (n, 2)``.
+    def shape(self, x: np.ndarray, derivatives: bool = True,
+              neighbours: Neighbours | None = None) -> Shape:
+        """Shape functions (and the enrichment operators) at points ``x (n, 2)``;
+        ``neighbours`` of ``x`` found before (:func:`~efgkit.search.find_neighbours`) are used.
 
         Examples
         --------
@@ -148,22 +154,16 @@ class Approximation:
         x = np.atleast_2d(np.asarray(x, dtype=float))
         if x.ndim != 2 or x.shape[1] != 2:
             raise ValueError(f"x must have shape (n_points, 2), got {x.shape}")
-        nb = find_neighbours(x, self.nodes, self.boxes)
+        nb = find_neighbours(x, self.nodes, self.boxes) if neighbours is None else neighbours
         rows = self.cracked_rows(x, nb)
         if len(rows) == 0:
             sh = self._mls(x, nb, derivatives)
             mask, vals = nb.mask, [sh.values, sh.ddx, sh.ddy]
-        else:
+        else:  # all points as if crack-free, then the few near a crack redone under the
+            # rules: the arrays are allocated once (no zeros plus a copy of the plain rows)
             mask = nb.mask.copy()
-            vals = [np.zeros(nb.idx.shape) if derivatives or i == 0 else None for i in range(3)]
-            is_plain = np.ones(len(x), bool)
-            is_plain[rows] = False
-            plain = np.flatnonzero(is_plain)
-            if len(plain):
-                sp = self._mls(x[plain], nb.subset(plain), derivatives)
-                for v, r in zip(vals, (sp.values, sp.ddx, sp.ddy), strict=True):
-                    if v is not None:
-                        v[plain] = r
+            sp = self._mls(x, nb, derivatives)
+            vals = [sp.values, sp.ddx, sp.ddy]
             cw = self.sight_weights(x[rows], nb.subset(rows))
             sc = self._mls(x[rows], nb.subset(rows), derivatives, weights=cw)
             mask[rows] = cw[0]

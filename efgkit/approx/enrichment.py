@@ -38,7 +38,7 @@ from .mls import RCOND_MIN, SingularMomentMatrix, moment_shape
 from .shape import Extra, Shape
 from .tip_functions import TipGeometry, branch_functions, ramp, tip_coordinates, williams_modes
 
-__all__ = ["Enrichment", "blend_intrinsic", "extra_columns"]
+__all__ = ["Enrichment", "blend_intrinsic", "extra_columns", "interpolant"]
 
 
 
@@ -228,6 +228,19 @@ def _ops(n, rows, cols, vals, n_extra):
     return csr_array((vals, (rows, cols)), shape=(n, n_extra))
 
 
+def interpolant(vals, nb, rows, qn, chunk: int = 65536) -> np.ndarray:
+    """sum_I v_I(x) q_I at the points ``rows``, shape (m, c), from the padded shape-function
+    values ``vals (n, k)`` (or a derivative) and the nodal values ``qn (n_nodes, c)``: the
+    MLS interpolant of seed 003 Eq. 44b on the rows that need it, in chunks of rows (no
+    operator over all points, no (n, k, c) array)."""
+    out = np.empty((len(rows), qn.shape[1]))
+    for s in range(0, len(rows), chunk):
+        r = rows[s:s + chunk]
+        v = np.where(nb.mask[r], vals[r], 0.0)
+        out[s:s + chunk] = np.einsum("qk,qkc->qc", v, qn[nb.idx[r]])
+    return out
+
+
 def extra_columns(x, nodal: Shape, enr: Enrichment, derivatives: bool, scale: float) -> Extra:
     """The enrichment unknowns' component operators at points ``x (n, 2)``.
 
@@ -243,7 +256,8 @@ def extra_columns(x, nodal: Shape, enr: Enrichment, derivatives: bool, scale: fl
             r, th, gr, gt = tip_coordinates(x, g)
             rows = np.arange(n)
             if np.isfinite(enr.r2):  # psi vanishes where neither x nor its nodes are ramped
-                near_node = (enr.node_q[t][nb.idx] != 0).any(axis=(2, 3)) & nb.mask
+                ramped = (enr.node_q[t] != 0).any(axis=(1, 2))  # (n_nodes,)
+                near_node = ramped[nb.idx] & nb.mask
                 rows = np.flatnonzero((r < enr.r2) | near_node.any(axis=1))
             if derivatives:
                 _check_off_tip(x[rows], r[rows], g, scale)
@@ -255,10 +269,10 @@ def extra_columns(x, nodal: Shape, enr: Enrichment, derivatives: bool, scale: fl
                 Q = R[:, None, None] * Q
             # minus the MLS interpolant of Q (Eq. 44b): sum over the neighbours of phi_I Q(x_I)
             qn = enr.node_q[t].reshape(-1, 4)  # (n_nodes, mode * comp)
-            Q = Q - (nodal.phi @ qn)[rows].reshape(-1, 2, 2)
+            Q = Q - interpolant(values, nb, rows, qn).reshape(-1, 2, 2)
             if derivatives:
-                dQ = dQ - np.stack([(op @ qn)[rows].reshape(-1, 2, 2)
-                                    for op in (nodal.dx, nodal.dy)], axis=-1)
+                dQ = dQ - np.stack([interpolant(v, nb, rows, qn).reshape(-1, 2, 2)
+                                    for v in (ddx, ddy)], axis=-1)
             for mode in (0, 1):
                 col = np.full(len(rows), 2 * t + mode)
                 for key, v in (("ux", Q[:, mode, 0]), ("uy", Q[:, mode, 1]),

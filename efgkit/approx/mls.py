@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..jit import resolve_backend
 from ..nodes import NodeCloud
 from ..search import Neighbours, find_neighbours
 from .bases import basis, basis_origin_gradient, basis_size
@@ -284,7 +285,7 @@ def _modified_path(x, nodes, nb, given, special, weight, basis, beta, derivative
 def mls_shape(x: np.ndarray, nodes: NodeCloud, weight: str = "quartic", basis: str = "linear",
               *, d_max: float = 2.0, alpha: float = 0.5, derivatives: bool = True,
               neighbours: Neighbours | None = None, interpolate: np.ndarray | None = None,
-              weights: tuple | None = None, backend: str = "numba", chunk: int = 32768) -> Shape:
+              weights: tuple | None = None, backend: str = "auto", chunk: int = 32768) -> Shape:
     """MLS shape functions of ``nodes`` at points ``x (n_points, 2)``.
 
     Parameters
@@ -304,10 +305,10 @@ def mls_shape(x: np.ndarray, nodes: NodeCloud, weight: str = "quartic", basis: s
     weights : (mask, w, dwx, dwy), optional
         Padded pair weights of a crack rule (:func:`efgkit.approx.crack_rules.crack_weights`),
         each (n_points, k) like ``neighbours``; ``mask`` replaces the neighbours' mask.
-    backend : {"numba", "numpy"}
+    backend : {"auto", "numba", "numpy"}
         Compiled kernel (:mod:`efgkit.approx.kernels`) or the plain-numpy
         reference; they agree to 1e-12. Points of the modified MLS always use
-        the numpy path.
+        the numpy path. "auto": numba from :data:`efgkit.jit.COMPILED_MIN` points on.
 
     Returns
     -------
@@ -340,8 +341,7 @@ def mls_shape(x: np.ndarray, nodes: NodeCloud, weight: str = "quartic", basis: s
     # points whose support holds an interpolating node (the modified MLS)
     special = None if interpolate is None else (interpolate[nb.idx] & nb.mask).any(axis=1)
     _check_neighbour_counts(x, nb, basis, special)
-    if backend not in ("numba", "numpy"):
-        raise ValueError(f"backend must be 'numba' or 'numpy', got {backend!r}")
+    backend = resolve_backend(backend, len(x))
     wfun = weight_function(weight, d_max, alpha)
     if backend == "numba" and (special is None or not special.any()):
         vals = _numba_path(x, nodes, nb, given, weight, basis, d_max / alpha, derivatives)

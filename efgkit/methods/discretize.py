@@ -8,7 +8,6 @@ interpolation only for nodes on essential edges when ``bc="modified_mls"``.
 from __future__ import annotations
 
 import math
-import time
 import warnings
 from dataclasses import dataclass, field, replace
 
@@ -25,7 +24,8 @@ from ..problem.geometry import Domain, Edge
 from ..problem.scene import Scene
 from ..quadrature.cells import cell_points, triangle_points
 from ..quadrature.rules import Points
-from ..search import BoxGrid
+from ..search import BoxGrid, find_neighbours
+from ..timing import Stopwatch
 from .efg import EFG
 from .size import size_estimate
 
@@ -142,6 +142,7 @@ def discretize(scene: Scene, method: EFG) -> Discretization:
         raise TypeError(f"scene must be a Scene, got {type(scene).__name__}")
     if not isinstance(method, EFG):
         raise TypeError(f"method must be an EFG description, got {type(method).__name__}")
+    sw = Stopwatch()  # laps: stages that add up to the wall time, compilation apart
     method = method.for_scene(scene)  # the automatic choices (tip zones, enrichment, bc)
     est = size_estimate(scene, method)
     source = max(est.point_parts, key=est.point_parts.get)  # arguments giving the most points
@@ -152,8 +153,7 @@ def discretize(scene: Scene, method: EFG) -> Discretization:
                  "Remedy: a discretisation about {factor:.2g} times coarser (spacing, cell_size, "
                  "zone spacings) would fit; refine only where needed (zones near tips, holes and "
                  "corners), or lower d_max or order.")
-    timings = {}
-    t0 = time.perf_counter()
+    sw.lap("setup")
     nodes = generate_nodes(scene.domain, method, scene.cracks)
     interpolate = None
     if method.bc == "modified_mls":
@@ -165,8 +165,7 @@ def discretize(scene: Scene, method: EFG) -> Discretization:
             UserWarning, stacklevel=2)
         interpolate = essential_nodes(scene, nodes, method.spacing)
         nodes = _interpolating_supports(nodes, interpolate)
-    timings["nodes"] = time.perf_counter() - t0
-    t0 = time.perf_counter()
+    sw.lap("nodes")
     if method.quadrature == "cells":
         points = cell_points(scene.domain, method.cell_size or method.spacing, method.order,
                              zones=method.zones + method.tip_cell_zones(scene),
@@ -174,17 +173,17 @@ def discretize(scene: Scene, method: EFG) -> Discretization:
                              tip_rays=shadow_rays(scene, nodes), tip_order=method.tip_order)
     else:
         points = triangle_points(scene.domain, nodes.x, method.order)
-    timings["quadrature"] = time.perf_counter() - t0
-    t0 = time.perf_counter()
+    sw.lap("quadrature")
     approx = approximation(scene, method, nodes, interpolate)
+    sw.lap("approximation")  # crack lines, enrichment, the box grid of the nodes
     order = np.argsort(approx.boxes.box_of(points.x), kind="stable")  # locality for the kernels
     points = Points(points.x[order], points.w[order],
                     None if points.owner is None else points.owner[order])
-    timings["search"] = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    shape = approx.shape(points.x)
-    timings["shape"] = time.perf_counter() - t0
-    return Discretization(scene, method, nodes, points, shape, approx, timings)
+    nb = find_neighbours(points.x, nodes, approx.boxes)
+    sw.lap("search")
+    shape = approx.shape(points.x, neighbours=nb)
+    sw.lap("shape")
+    return Discretization(scene, method, nodes, points, shape, approx, sw.timings)
 
 
 def shadow_rays(scene: Scene, nodes: NodeCloud) -> list[np.ndarray]:

@@ -21,6 +21,7 @@ from numba import njit, prange
 from scipy.sparse import bmat, bsr_array, csr_array, diags_array, vstack
 
 from ..approx.shape import Shape
+from ..jit import resolve_backend
 
 __all__ = ["stiffness", "load_vector", "lumped_mass", "point_to_function_map"]
 
@@ -183,7 +184,7 @@ def _interleave(ux: csr_array, uy: csr_array) -> csr_array:
 
 
 def stiffness(trial: Shape, w: np.ndarray, D: np.ndarray, test: Shape | None = None,
-              backend: str = "numba") -> csr_array:
+              backend: str = "auto") -> csr_array:
     """Stiffness matrix, csr_array (2 n_test, 2 n_trial), seed 003 Eq. (22a).
 
     Parameters
@@ -196,8 +197,9 @@ def stiffness(trial: Shape, w: np.ndarray, D: np.ndarray, test: Shape | None = N
         Constitutive matrix (Voigt, engineering shear).
     test : Shape, optional
         Test functions (default: the trial functions, Bubnov-Galerkin).
-    backend : {"numba", "numpy"}
-        Compiled row kernel or scipy.sparse reference (they agree to 1e-12).
+    backend : {"auto", "numba", "numpy"}
+        Compiled row kernel or scipy.sparse reference (they agree to 1e-12); "auto": numba
+        from :data:`efgkit.jit.COMPILED_MIN` quadrature points on.
 
     Examples
     --------
@@ -212,6 +214,7 @@ def stiffness(trial: Shape, w: np.ndarray, D: np.ndarray, test: Shape | None = N
     """
     test = trial if test is None else test
     w = np.asarray(w, dtype=float)
+    backend = resolve_backend(backend, trial.shape[0])
     if trial.extra is not None or test.extra is not None:
         if test is not trial:
             raise ValueError("enrichment unknowns are supported for Bubnov-Galerkin (test = trial) only")
@@ -224,8 +227,6 @@ def stiffness(trial: Shape, w: np.ndarray, D: np.ndarray, test: Shape | None = N
         raise ValueError("stiffness needs shape-function derivatives (derivatives=True)")
     if backend == "numpy":
         return _stiffness_numpy(test, trial, w, np.asarray(D, dtype=float))
-    if backend != "numba":
-        raise ValueError(f"backend must be 'numba' or 'numpy', got {backend!r}")
     import numba
 
     threads = numba.get_num_threads()
@@ -258,7 +259,6 @@ def _with_enrichment(shape: Shape, w, D, backend) -> csr_array:
         raise ValueError("stiffness needs shape-function derivatives (derivatives=True)")
     eps = (e.gxx, e.gyy, csr_array(e.gxy + e.gyx))  # strain of each unknown, (n, n_extra)
     W = diags_array(w)
-    dxT, dyT = csr_array(shape.dx.T), csr_array(shape.dy.T)
     nf = shape.n_functions
     interleave = np.ravel(np.column_stack([np.arange(nf), nf + np.arange(nf)]))  # rows 2 I + c
 
@@ -266,10 +266,17 @@ def _with_enrichment(shape: Shape, w, D, backend) -> csr_array:
         return [csr_array(W @ sum(C[i, j] * eps[j] for j in range(3) if C[i, j] != 0))
                 for i in range(3)]
 
-    def nodal_rows(sig):  # sum_q B_I^T sig: (2 n_functions, n_extra)
-        kx = csr_array(dxT @ sig[0] + dyT @ sig[2])
-        ky = csr_array(dyT @ sig[1] + dxT @ sig[2])
-        return csr_array(vstack([kx, ky], format="csr")[interleave])
+    def nodal_rows(sig, chunk=131072):  # sum_q B_I^T sig: (2 n_functions, n_extra)
+        kx = ky = 0
+        for s in range(0, len(w), chunk):  # operators of a chunk of points at a time
+            part = slice(s, s + chunk)
+            sub = Shape(shape.neighbours.subset(part), shape.values[part], shape.ddx[part],
+                        shape.ddy[part], nf)
+            dxT, dyT = csr_array(sub.dx.T), csr_array(sub.dy.T)
+            sx, sy, sxy = (csr_array(a[part]) for a in sig)
+            kx = kx + dxT @ sx + dyT @ sxy
+            ky = ky + dyT @ sy + dxT @ sxy
+        return csr_array(vstack([csr_array(kx), csr_array(ky)], format="csr")[interleave])
 
     sig = stresses(D)
     K_ne = nodal_rows(sig)

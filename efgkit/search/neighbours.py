@@ -1,0 +1,173 @@
+"""Neighbour search: which nodes' supports cover each point.
+
+The result is padded: ``idx (n_points, k)`` node indices and ``mask (n_points, k)``,
+with the valid entries of each row first and ascending; :func:`neighbour_lists` gives
+the same graph as CSR. Three methods give the identical graph |x_q - x_I| < d_mI:
+
+- ``"uniform"``: a box grid with one box side (seed 000's uniform box search);
+- ``"nonuniform"``: boxes sized by the supports that reach them (seed 000 Sect. 4.1);
+- ``"kdtree"``: scipy's cKDTree ``query_ball_point`` (:mod:`efgkit.search.kdtree`);
+
+and ``"auto"`` picks one by the size of the problem and the spread of the radii. The box
+queries count first and then fill, so no array wider than the largest neighbour count is
+ever allocated.
+"""
+
+from __future__ import annotations
+
+from contextlib import contextmanager
+from dataclasses import dataclass
+
+import numba
+import numpy as np
+
+from ..jit import resolve_backend
+from ..nodes import NodeCloud
+from .boxes import SPREAD, BoxGrid
+from .kdtree import kdtree_lists
+from .kernels import count_neighbours, fill_csr, fill_padded
+
+__all__ = ["Neighbours", "BoxGrid", "METHODS", "choose_method", "find_neighbours",
+           "neighbour_lists"]
+
+METHODS = ("auto", "uniform", "nonuniform", "kdtree")
+# Fewer points than this are searched by one thread: below it the parallel region's
+# start and barrier cost more than they save, the more so on a machine shared by many jobs.
+PARALLEL = 100_000
+
+
+@dataclass(frozen=True, eq=False)
+class Neighbours:
+    """Padded neighbour lists.
+
+    Attributes
+    ----------
+    idx : ndarray, shape (n_points, k), int
+        Node indices; entries where ``mask`` is False are 0 (a valid index, unused).
+    mask : ndarray, shape (n_points, k), bool
+        True for nodes whose support contains the point (strictly: d < d_mI).
+        The search puts the valid entries first in each row; a crack rule
+        may clear entries anywhere.
+    """
+
+    idx: np.ndarray
+    mask: np.ndarray
+
+    @property
+    def counts(self) -> np.ndarray:
+        """Number of neighbours of each point, shape (n_points,)."""
+        return self.mask.sum(axis=1)
+
+    def subset(self, rows) -> Neighbours:
+        return Neighbours(self.idx[rows], self.mask[rows])
+
+
+def choose_method(n_points: int, nodes: NodeCloud) -> str:
+    """The ``"auto"`` method: ``"kdtree"`` below :data:`efgkit.jit.COMPILED_MIN` points
+    (no kernel to compile), ``"uniform"`` boxes when the largest support radius is at most
+    SPREAD times the median, ``"nonuniform"`` boxes for graded clouds."""
+    if resolve_backend("auto", n_points) == "numpy":
+        return "kdtree"
+    r = nodes.radius
+    return "uniform" if r.max() <= SPREAD * np.median(r) else "nonuniform"
+
+
+def _check(x, nodes, method):
+    x = np.ascontiguousarray(x, dtype=float)
+    if x.ndim != 2 or x.shape[1] != 2:
+        raise ValueError(f"x must have shape (n_points, 2), got {x.shape}")
+    if not np.all(np.isfinite(x)):
+        bad = int(np.flatnonzero(~np.isfinite(x).all(axis=1))[0])
+        raise ValueError(f"x must be finite, but point {bad} is {x[bad].tolist()}: "
+                         "remove or fix the non-finite points before the search")
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {METHODS}, got {method!r}")
+    return x
+
+
+@contextmanager
+def _threads(n_points):
+    """One numba thread for fewer than PARALLEL points, the configured number otherwise."""
+    before = numba.get_num_threads()
+    if n_points < PARALLEL:
+        numba.set_num_threads(1)
+    try:
+        yield
+    finally:
+        numba.set_num_threads(before)
+
+
+def _grid(x, nodes, boxes, method):
+    if boxes is not None and (method == boxes.kind or (
+            method == "auto" and resolve_backend("auto", len(x)) == "numba")):
+        return boxes
+    if method == "auto":
+        method = choose_method(len(x), nodes)
+    return None if method == "kdtree" else BoxGrid.build(nodes, kind=method)
+
+
+def neighbour_lists(x: np.ndarray, nodes: NodeCloud, boxes: BoxGrid | None = None,
+                    method: str = "auto"):
+    """The neighbour graph as CSR: ``indptr (n_points + 1,)``, ``indices`` (rows ascending).
+
+    Examples
+    --------
+    >>> from efgkit.nodes import NodeCloud
+    >>> cloud = NodeCloud(np.array([[0., 0.], [1., 0.], [3., 0.]]), np.full(3, 1.5), np.ones(3, bool))
+    >>> indptr, indices = neighbour_lists(np.array([[0.5, 0.0]]), cloud, method="uniform")
+    >>> indptr.tolist(), indices.tolist()
+    ([0, 2], [0, 1])
+    """
+    x = _check(x, nodes, method)
+    grid = _grid(x, nodes, boxes, method)
+    if grid is None:
+        return kdtree_lists(x, nodes)
+    with _threads(len(x)):
+        box = grid.box_of(x)
+        count = count_neighbours(x, box, grid.start, grid.members, nodes.x, nodes.radius)
+        indptr = np.zeros(len(x) + 1, np.int64)
+        np.cumsum(count, out=indptr[1:])
+        return indptr, fill_csr(x, box, grid.start, grid.members, nodes.x, nodes.radius, indptr)
+
+
+def find_neighbours(x: np.ndarray, nodes: NodeCloud, boxes: BoxGrid | None = None,
+                    method: str = "auto") -> Neighbours:
+    """Nodes I with |x - x_I| < d_mI for every point of ``x (n_points, 2)``, padded.
+
+    Parameters
+    ----------
+    x : ndarray, shape (n_points, 2)
+    nodes : NodeCloud
+    boxes : BoxGrid, optional
+        A grid of ``nodes`` built before (used unless ``method`` names another kind).
+    method : {"auto", "uniform", "nonuniform", "kdtree"}
+
+    Returns
+    -------
+    Neighbours
+        ``idx, mask (n_points, k)`` with k the largest neighbour count.
+
+    Examples
+    --------
+    >>> from efgkit.nodes import NodeCloud
+    >>> cloud = NodeCloud(np.array([[0., 0.], [1., 0.], [3., 0.]]), np.full(3, 1.5), np.ones(3, bool))
+    >>> nb = find_neighbours(np.array([[0.5, 0.0]]), cloud)
+    >>> sorted(nb.idx[0][nb.mask[0]].tolist())
+    [0, 1]
+    """
+    x = _check(x, nodes, method)
+    grid = _grid(x, nodes, boxes, method)
+    if grid is None:
+        indptr, indices = kdtree_lists(x, nodes)
+        count = np.diff(indptr)
+        kmax = int(count.max()) if len(x) else 0
+        mask = np.arange(kmax)[None, :] < count[:, None]
+        idx = np.zeros((len(x), kmax), np.int64)
+        idx[mask] = indices
+        return Neighbours(idx, mask)
+    with _threads(len(x)):
+        box = grid.box_of(x)
+        count = count_neighbours(x, box, grid.start, grid.members, nodes.x, nodes.radius)
+        kmax = int(count.max()) if len(x) else 0
+        idx = fill_padded(x, box, grid.start, grid.members, nodes.x, nodes.radius, kmax)
+    return Neighbours(idx, np.arange(kmax)[None, :] < count[:, None])
