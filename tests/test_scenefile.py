@@ -17,7 +17,7 @@ from efgkit import EFG, Elastic, Scene, Support, Traction, Zone
 from efgkit.problem.exact.fields import Field
 from efgkit.problem.scene import evaluate_vector
 from efgkit.scenefile import (
-    _SCHEMA,
+    SCHEMA,
     efg_from_dict,
     efg_to_dict,
     load_scene,
@@ -181,7 +181,7 @@ EFG_VALUES = {  # key: (TOML value, its value in efg_to_dict)
 }
 
 
-@pytest.mark.parametrize("key", [k for k in _SCHEMA["efg"][2] if k != "spacing"])
+@pytest.mark.parametrize("key", [k for k in SCHEMA["efg"][2] if k != "spacing"])
 def test_efg_key_round_trip(tmp_path, key):
     text, expected = EFG_VALUES[key]
     _, efg = load_study(write(tmp_path, BASE + f"[efg]\nspacing = 0.1\n{key} = {text}\n"))
@@ -193,10 +193,10 @@ def test_efg_key_round_trip(tmp_path, key):
     assert efg_to_dict(efg_from_dict(d)) == d
 
 
-@pytest.mark.parametrize("table", _SCHEMA)
+@pytest.mark.parametrize("table", SCHEMA)
 def test_schema_is_one_to_one_with_the_dataclasses(table):
     # a field added to a dataclass must be added to the scene file schema, and back
-    cls, required, readers = _SCHEMA[table]
+    cls, required, readers = SCHEMA[table]
     fields = {f.name: f for f in dataclasses.fields(cls)}
     assert {k for k, read in readers.items() if read} == set(fields)
     no_default = {k for k, f in fields.items()
@@ -335,8 +335,8 @@ def test_doc_shows_the_kirsch_file_and_its_python_equivalent():
     assert efg_to_dict(ns["efg"]) == efg_to_dict(efg)
 
 
-@pytest.mark.parametrize("table", _SCHEMA)
+@pytest.mark.parametrize("table", SCHEMA)
 def test_doc_documents_every_key(table):
     text = DOC.read_text()
-    for key in _SCHEMA[table][2]:
+    for key in SCHEMA[table][2]:
         assert f"`{key}`" in text, f"docs/scenes.md does not document {table}.{key}"

@@ -1,35 +1,5 @@
-"""Scene files: TOML documents that map one to one onto :class:`Scene` and :class:`EFG`.
-
-A scene file holds the physical problem (top-level keys, ``[material]``,
-``[domain]``, ``[[supports]]``, ``[[tractions]]``, ``[[cracks]]``, ``[exact]``)
-and optionally the discretisation (``[efg]``). Every key is documented in
-``docs/scenes.md``. Values are in the user's consistent units and are never
-converted. Where a Python scene takes a callable, a file takes a named
-analytic field, written as a table ``{ field = "kirsch", a = 1.0 }``
-(:class:`~efgkit.problem.exact.fields.Field`).
-
-The reader is strict: an unknown key is an error that names the key, its
-table and the nearest valid key; a missing required key, a wrong type or a
-NaN/inf value is an error naming the key path (``supports[1].ux``). Errors of
-the dataclasses themselves (``nu`` out of range, a support on an edge the
-domain does not have) propagate with their message, prefixed with the key
-path and, from :func:`load_scene` / :func:`load_study`, the file path.
-
-Examples
---------
->>> scene = scene_from_dict({
-...     "material": {"E": 1000.0, "nu": 0.3, "plane": "stress"},
-...     "domain": {"outer": {"rectangle": [0.0, 0.0, 1.0, 1.0]}},
-...     "supports": [{"edge": "left", "ux": 0.0}, {"edge": "bottom", "uy": 0.0}],
-...     "tractions": [{"edge": "right", "t": [1.0, 0.0]}],
-... })
->>> sorted(scene.domain.edge_names), scene.tractions[0].t
-(['bottom', 'left', 'right', 'top'], (1.0, 0.0))
->>> scene_from_dict({"material": {"E": 1.0, "nu": 0.3}, "domain": {}, "suports": []})
-Traceback (most recent call last):
-...
-ValueError: unknown key 'suports' in scene file (top level); did you mean 'supports'?
-"""
+"""Reading scene-file tables: the schema (table -> dataclass, keys, readers) and the checks
+that name the key path of every error (the package docstring says how)."""
 
 from __future__ import annotations
 
@@ -37,25 +7,18 @@ import difflib
 import math
 from collections.abc import Callable
 from contextlib import contextmanager
-from pathlib import Path
 
 import numpy as np
 
-from .methods.efg import EFG, Rosette, Zone
-from .problem import Expression, PointSupport, Scene, Support, Symmetry, Traction, VectorExpression
-from .problem.crack import Crack
-from .problem.exact.fields import Field
-from .problem.geometry import Domain, Loop
-from .problem.history import history_from_dict, with_time_table
-from .problem.material import Elastic
+from ..methods.efg import EFG, Rosette, Zone
+from ..problem import Expression, PointSupport, Scene, Support, Symmetry, Traction, VectorExpression
+from ..problem.crack import Crack
+from ..problem.exact.fields import Field
+from ..problem.geometry import Domain, Loop
+from ..problem.history import history_from_dict, with_time_table
+from ..problem.material import Elastic
 
-try:
-    import tomllib
-except ModuleNotFoundError:  # pragma: no cover - Python 3.10
-    import tomli as tomllib
-
-__all__ = ["efg_from_dict", "efg_to_dict", "load_scene", "load_study", "scene_from_dict",
-           "scene_to_dict"]
+__all__ = ["SCHEMA", "check_finite", "efg_from_dict", "join_path", "key_path", "scene_from_dict"]
 
 _RECTANGLE_EDGES = ("bottom", "right", "top", "left")
 _LOOP_FORMS = ("vertices", "rectangle", "circle")
@@ -63,7 +26,7 @@ _LOOP_FORMS = ("vertices", "rectangle", "circle")
 
 # --- checking helpers: each names the key path ------------------------------------------
 
-def _join(path: str, key) -> str:
+def join_path(path: str, key) -> str:
     return f"{path}.{key}" if path else str(key)
 
 
@@ -87,14 +50,14 @@ def _keys(d, path: str, required=(), optional=()) -> dict:
     return d
 
 
-def _check_finite(v, path: str) -> None:
+def check_finite(v, path: str) -> None:
     """Reject NaN and inf anywhere in a nested table (TOML has nan/inf literals)."""
     if isinstance(v, dict):
         for k, x in v.items():
-            _check_finite(x, _join(path, k))
+            check_finite(x, join_path(path, k))
     elif isinstance(v, (list, tuple)):
         for i, x in enumerate(v):
-            _check_finite(x, f"{path}[{i}]")
+            check_finite(x, f"{path}[{i}]")
     elif isinstance(v, np.ndarray) and v.dtype.kind in "fc":
         if not np.all(np.isfinite(v)):
             raise ValueError(f"{path} holds NaN or inf; every number must be finite")
@@ -103,7 +66,7 @@ def _check_finite(v, path: str) -> None:
 
 
 @contextmanager
-def _at(path: str):
+def key_path(path: str):
     """Prefix ValueError/TypeError messages raised inside with ``path: `` (if any)."""
     if not path:
         yield
@@ -166,10 +129,10 @@ def _field(d: dict, path: str) -> Field:
     if "field" not in d:
         raise ValueError(f"missing required key 'field' in {_where(path)} "
                          "(a field value is { field = \"name\", parameter = value, ... })")
-    name = _str(d["field"], _join(path, "field"))
+    name = _str(d["field"], join_path(path, "field"))
     params = tuple((k, tuple(v) if isinstance(v, list) else v)
                    for k, v in d.items() if k != "field")
-    with _at(path):
+    with key_path(path):
         return Field(name, params)
 
 
@@ -193,44 +156,44 @@ def _loop(d, path: str) -> Loop:
                          f"'rectangle', 'circle'; got {forms or 'none of them'}")
     if forms == ["circle"]:
         _keys(d, path, ("circle",), ("name",))
-        c = _keys(d["circle"], _join(path, "circle"), ("centre", "radius"))
-        centre = _floats(c["centre"], _join(path, "circle.centre"), 2)
-        radius = _num(c["radius"], _join(path, "circle.radius"))
-        name = _str(d.get("name", "hole"), _join(path, "name"))
-        with _at(path):
+        c = _keys(d["circle"], join_path(path, "circle"), ("centre", "radius"))
+        centre = _floats(c["centre"], join_path(path, "circle.centre"), 2)
+        radius = _num(c["radius"], join_path(path, "circle.radius"))
+        name = _str(d.get("name", "hole"), join_path(path, "name"))
+        with key_path(path):
             return Loop.circle(centre, radius, name)
     if forms == ["rectangle"]:
         _keys(d, path, ("rectangle",), ("edges",))
-        x0, y0, x1, y1 = _floats(d["rectangle"], _join(path, "rectangle"), 4)
+        x0, y0, x1, y1 = _floats(d["rectangle"], join_path(path, "rectangle"), 4)
         if not (x1 > x0 and y1 > y0):
-            raise ValueError(f"{_join(path, 'rectangle')} = [x0, y0, x1, y1] needs x1 > x0 "
+            raise ValueError(f"{join_path(path, 'rectangle')} = [x0, y0, x1, y1] needs x1 > x0 "
                              f"and y1 > y0, got {[x0, y0, x1, y1]}")
-        names = _strs(d.get("edges", _RECTANGLE_EDGES), _join(path, "edges"))
-        with _at(path):
+        names = _strs(d.get("edges", _RECTANGLE_EDGES), join_path(path, "edges"))
+        with key_path(path):
             return Loop.polygon([[x0, y0], [x1, y0], [x1, y1], [x0, y1]], names)
     _keys(d, path, ("vertices",), ("edges", "arcs"))
-    v = _points(d["vertices"], _join(path, "vertices"))
+    v = _points(d["vertices"], join_path(path, "vertices"))
     n = len(v)
-    names = (_strs(d["edges"], _join(path, "edges")) if "edges" in d
+    names = (_strs(d["edges"], join_path(path, "edges")) if "edges" in d
              else tuple(f"edge{k}" for k in range(n)))
     centres, sweeps = np.full((n, 2), np.nan), np.zeros(n)
     arcs = d.get("arcs", {})
     if not isinstance(arcs, dict):
-        raise TypeError(f"{_join(path, 'arcs')} must be a table {{ edge index = {{ centre, "
+        raise TypeError(f"{join_path(path, 'arcs')} must be a table {{ edge index = {{ centre, "
                         f"sweep }} }}, got {arcs!r}")
     for key, arc in arcs.items():
-        p = _join(path, f"arcs.{key}")
+        p = join_path(path, f"arcs.{key}")
         if not (str(key).isdigit() and int(key) < n):
-            raise ValueError(f"{_join(path, 'arcs')}: key {key!r} is not an edge index; a loop "
+            raise ValueError(f"{join_path(path, 'arcs')}: key {key!r} is not an edge index; a loop "
                              f"of {n} vertices has edges 0 to {n - 1} (edge k runs from "
                              "vertices[k] to vertices[k + 1])")
         _keys(arc, p, ("centre", "sweep"))
         k = int(key)
-        centres[k] = _floats(arc["centre"], _join(p, "centre"), 2)
-        sweeps[k] = _num(arc["sweep"], _join(p, "sweep"))
+        centres[k] = _floats(arc["centre"], join_path(p, "centre"), 2)
+        sweeps[k] = _num(arc["sweep"], join_path(p, "sweep"))
         if sweeps[k] == 0:
             raise ValueError(f"{p}.sweep is 0 (a straight edge); remove the arc entry")
-    with _at(path):
+    with key_path(path):
         return Loop(v, names, centres, sweeps)
 
 
@@ -260,7 +223,7 @@ def _many(table: str, read: Callable | None = None) -> Callable:
 # Table name -> (dataclass, required keys, {key: reader}): the schema, one to one with the
 # dataclass fields (a test checks this). Readers take (value, key path); "efg" at the top
 # level is read by efg_from_dict, not by Scene.
-_SCHEMA: dict[str, tuple[type, tuple[str, ...], dict[str, Callable | None]]] = {
+SCHEMA: dict[str, tuple[type, tuple[str, ...], dict[str, Callable | None]]] = {
     "": (Scene, ("material", "domain"), {
         "name": _str, "material": _one("material"), "domain": _one("domain"),
         "supports": _many("supports"), "tractions": _many("tractions"),
@@ -294,10 +257,10 @@ _SCHEMA: dict[str, tuple[type, tuple[str, ...], dict[str, Callable | None]]] = {
 
 def _table(d, table: str, path: str):
     """Check the keys of ``d``, read each value, build the table's dataclass."""
-    cls, required, readers = _SCHEMA[table]
+    cls, required, readers = SCHEMA[table]
     _keys(d, path, required, tuple(k for k in readers if k not in required))
-    kw = {k: readers[k](v, _join(path, k)) for k, v in d.items() if readers[k] is not None}
-    with _at(path):
+    kw = {k: readers[k](v, join_path(path, k)) for k, v in d.items() if readers[k] is not None}
+    with key_path(path):
         return cls(**kw)
 
 
@@ -311,7 +274,7 @@ def scene_from_dict(d: dict) -> Scene:
     ValueError, TypeError
         Naming the key path (see the module docstring).
     """
-    _check_finite(d, "")
+    check_finite(d, "")
     return _table(with_time_table(d), "", "")  # [time] carries the duration of a dynamic scene
 
 
@@ -329,95 +292,5 @@ def efg_from_dict(d: dict, path: str = "efg") -> EFG:
     >>> m.spacing, m.zones[0].centre
     (0.25, (0.0, 0.0))
     """
-    _check_finite(d, path)
+    check_finite(d, path)
     return _table(d, "efg", path)
-
-
-# --- files ------------------------------------------------------------------------------
-
-def _read(path) -> tuple[Path, dict]:
-    path = Path(path)
-    with open(path, "rb") as f:
-        try:
-            d = tomllib.load(f)
-        except tomllib.TOMLDecodeError as e:
-            raise ValueError(f"{path}: not a valid TOML file: {e}") from e
-    d.setdefault("name", path.stem)
-    return path, d
-
-
-def load_scene(path) -> Scene:
-    """Read a scene file. ``name`` defaults to the file's stem.
-
-    The whole file is checked, including an ``[efg]`` table if there is one.
-    Errors are prefixed with the file path.
-    """
-    path, d = _read(path)
-    with _at(str(path)):
-        scene = scene_from_dict(d)
-        if "efg" in d:
-            efg_from_dict(d["efg"])
-    return scene
-
-
-def load_study(path) -> tuple[Scene, EFG]:
-    """Read a scene file with its discretisation: ``(Scene, EFG)`` (``[efg]`` required)."""
-    path, d = _read(path)
-    with _at(str(path)):
-        scene = scene_from_dict(d)
-        if "efg" not in d:
-            raise ValueError("missing required key 'efg' in scene file (top level): "
-                             "a study needs the discretisation table [efg]")
-        return scene, efg_from_dict(d["efg"])
-
-
-# --- writing (the inverse maps, for round trips and saving) -----------------------------
-
-def _out(v, path: str):
-    """A dataclass attribute as a scene-file value (TypeError for callables)."""
-    if isinstance(v, Field):
-        f = v.as_dict()
-        return {"field": f.pop("name"), **f}
-    if isinstance(v, Loop):
-        return _loop_out(v)
-    tables = [t for t, (cls, _, _) in _SCHEMA.items() if type(v) is cls]
-    if tables:
-        return _record(v, tables[0], path)
-    if isinstance(v, np.ndarray):
-        return v.tolist()
-    if isinstance(v, (list, tuple)):
-        return [_out(x, f"{path}[{i}]") for i, x in enumerate(v)]
-    if isinstance(v, np.generic):
-        return v.item()
-    if callable(v) and not isinstance(v, str):  # an Expression is its formula
-        raise TypeError(f"{path} is a Python callable; a scene file holds only numbers, "
-                        "edge names and named fields ({ field = ... })")
-    return v
-
-
-def _record(obj, table: str, path: str) -> dict:
-    values = {k: getattr(obj, k) for k, read in _SCHEMA[table][2].items() if read}
-    # () is left out, except EFG zones, where () (none) differs from None (automatic)
-    return {k: _out(v, _join(path, k)) for k, v in values.items()
-            if v is not None and not (isinstance(v, tuple) and not v and k != "zones")}
-
-
-def _loop_out(loop: Loop) -> dict:
-    out = {"vertices": loop.vertices.tolist(), "edges": list(loop.names)}
-    arcs = {str(k): {"centre": loop.centres[k].tolist(), "sweep": float(loop.sweeps[k])}
-            for k in range(len(loop.vertices)) if loop.sweeps[k] != 0}
-    return {**out, "arcs": arcs} if arcs else out
-
-
-def scene_to_dict(scene: Scene) -> dict:
-    """The scene-file table of ``scene`` (inverse of :func:`scene_from_dict`).
-
-    Loops are written in the vertices form, as the domain stores them (outer
-    counter-clockwise, holes clockwise). Raises TypeError for callables.
-    """
-    return _record(scene, "", "")
-
-
-def efg_to_dict(efg: EFG) -> dict:
-    """The ``[efg]`` table of ``efg`` (inverse of :func:`efg_from_dict`); None and () omitted."""
-    return _record(efg, "efg", "efg")
