@@ -48,7 +48,8 @@ def auxiliary_space(disc: Discretization) -> AuxiliarySpace:
     return AuxiliarySpace(x, phi, disc.scene.material.D, disc.scene.domain, cuts)
 
 
-def solve(scene: Scene, method: EFG, disc: Discretization | None = None) -> MeshlessSolution:
+def solve(scene: Scene, method: EFG, disc: Discretization | None = None, K=None,
+          f=None) -> MeshlessSolution:
     """Solve a static scene with the EFG method.
 
     Parameters
@@ -57,6 +58,9 @@ def solve(scene: Scene, method: EFG, disc: Discretization | None = None) -> Mesh
     method : EFG
     disc : Discretization, optional
         Reuse a discretisation of the same scene and method.
+    K, f : csr_array (n_dofs, n_dofs) and ndarray (n_dofs,), optional
+        The stiffness and load vector of ``disc`` when already assembled (the incremental
+        growth update, :mod:`efgkit.growth.incremental`); built from ``disc`` otherwise.
 
     Returns
     -------
@@ -100,10 +104,10 @@ def solve(scene: Scene, method: EFG, disc: Discretization | None = None) -> Mesh
     timings = dict(disc.timings)
     mat, m = scene.material, method
     t0 = time.perf_counter()
-    K = stiffness(disc.shape, disc.points.w, mat.D)
+    K = stiffness(disc.shape, disc.points.w, mat.D) if K is None else K
     timings["stiffness"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    f = loads(disc)
+    f = loads(disc) if f is None else f
     timings["loads"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     h = m.spacing

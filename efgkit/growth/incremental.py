@@ -1,0 +1,317 @@
+"""Incremental update of the EFG system after a crack-growth step.
+
+The stiffness is a sum over quadrature points (seed 003 Eq. 22a),
+``K = sum_q w_q B_q^T D B_q``, and a point's row ``B_q`` depends only on the node
+cloud, the point and the crack geometry its neighbours' supports see. When a crack
+gains a segment (seed 002 Sect. 3.1: only the nodes a new segment influences change)
+
+    K_new = K_old - sum_{q in R_old} w_q B_q^T D B_q + sum_{q in R_new} w_q B_q^T D B_q,
+
+where ``R`` holds every point whose row can change: the points that are new or gone
+(tip cells, fan rules and cut cells move with the tip), the points with a neighbour
+node in the affected set ``A``, and the points within ``rho`` of a changed segment.
+``A`` holds the nodes whose support comes within ``rho`` of a changed segment (the
+new segments, and the last segment at every old and new tip) and every enriched node;
+``rho`` is the largest radius over which the tip acts (the intrinsic or extrinsic
+ramp radius, the PU radius, the transparency length ``kappa h``) plus the length of
+those tip segments (the kink map of the tip functions keeps distances to the kink).
+The enrichment unknowns may appear, vanish or be renumbered: every point with an
+enriched neighbour or an old enrichment entry is in ``R``, so the kept part of K is
+its nodal block, and the new enrichment rows come from ``R_new`` alone.
+
+The update is exact (to rounding) only with an unchanged node cloud: automatic tip
+zones (``zones=None``) and rosettes follow the tip and move nodes, and global
+(unramped) extrinsic Williams fields change everywhere when the tip moves. In those
+cases, and for the modified-MLS interpolation, :func:`update` rebuilds everything
+and says why (``Assembled.reason``).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.sparse import csr_array
+
+from ..approx.shape import Extra, Shape
+from ..methods.boundary import loads
+from ..methods.discretize import Discretization, approximation, discretize, shadow_rays
+from ..methods.efg import EFG
+from ..nodes import NodeCloud, generate_nodes
+from ..problem.scene import Scene
+from ..quadrature.cells import cell_points, triangle_points
+from ..quadrature.rules import Points
+from ..search import BoxGrid, Neighbours, find_neighbours
+from ..system.assemble import stiffness
+
+__all__ = ["Assembled", "assemble", "update"]
+
+_OPS = ("ux", "uy", "gxx", "gxy", "gyx", "gyy")
+
+
+@dataclass(frozen=True, eq=False)
+class Assembled:
+    """A discretisation with its stiffness and load vector (before the constraints).
+
+    Attributes
+    ----------
+    disc : Discretization
+    K : csr_array (n_dofs, n_dofs)
+    f : ndarray (n_dofs,)
+    recomputed : int
+        Quadrature points whose shape rows were evaluated (all of them in a full build).
+    reason : str or None
+        Why the last call rebuilt everything; None after an incremental update.
+    seconds : float
+        Wall time of the build or update.
+    """
+
+    disc: Discretization
+    K: csr_array
+    f: np.ndarray
+    recomputed: int
+    reason: str | None
+    seconds: float = 0.0
+
+
+def assemble(scene: Scene, method: EFG, reason: str = "first step") -> Assembled:
+    """Full build: :func:`~efgkit.methods.discretize.discretize`, K and f of ``scene``."""
+    t0 = time.perf_counter()
+    disc = discretize(scene, method)
+    K = stiffness(disc.shape, disc.points.w, scene.material.D)
+    f = loads(disc)
+    return Assembled(disc, K, f, len(disc.points.w), reason, time.perf_counter() - t0)
+
+
+def _why_not(prev: Assembled, scene: Scene, m: EFG) -> str | None:
+    pm = prev.disc.method
+    if prev.disc.scene.domain is not scene.domain:
+        return "the domain changed"
+    if prev.disc.scene.material is not scene.material:
+        return "the material changed"
+    if m.zones != pm.zones:
+        return ("the node zones changed (automatic tip zones follow the tip: give fixed zones, "
+                "or zones=(), for the incremental path)")
+    if m.rosette is not None:
+        return "a tip rosette moves with the tip (nodes change)"
+    if m.bc == "modified_mls":
+        return "bc='modified_mls' (interpolating supports) is rebuilt in full"
+    if m.enrichment == "extrinsic_mls" and m.enrich_radius is None:
+        return ("unramped (global) extrinsic Williams fields change everywhere when a tip moves: "
+                "give enrich_radius")
+    if {k: v for k, v in vars(m).items() if k != "coordinates"} != \
+            {k: v for k, v in vars(pm).items() if k != "coordinates"}:
+        return "the method changed"
+    return None
+
+
+def _segment_distance(x: np.ndarray, seg: np.ndarray) -> np.ndarray:
+    """Distance of points ``x (n, 2)`` to the nearest of ``seg (s, 2, 2)``, shape (n,)."""
+    best = np.full(len(x), np.inf)
+    for a, b in seg:  # a handful of segments
+        ab = b - a
+        den = float(ab @ ab)
+        t = np.zeros(len(x)) if den == 0 else np.clip((x - a) @ ab / den, 0.0, 1.0)
+        best = np.minimum(best, np.hypot(*(x - a - t[:, None] * ab).T))
+    return best
+
+
+def _changed_segments(old: Scene, new: Scene) -> np.ndarray:
+    """Segments in one scene and not the other, and the last segment of every old and new
+    tip, shape (s, 2, 2)."""
+    def segs(sc):
+        return np.concatenate([c.segments for c in sc.cracks]).reshape(-1, 2, 2) if sc.cracks \
+            else np.zeros((0, 2, 2))
+
+    so, sn = segs(old), segs(new)
+    key = [s.reshape(len(s), -1) for s in (so, sn)]
+    out = [s[~(k[:, None, :] == kk[None, :, :]).all(axis=2).any(axis=1)]
+           for s, k, kk in ((so, key[0], key[1]), (sn, key[1], key[0]))]
+    for sc in (old, new):
+        for c in sc.cracks:
+            v = np.asarray(c.vertices, float)
+            if c.tips[0]:
+                out.append(v[None, [1, 0]])
+            if c.tips[1]:
+                out.append(v[None, [-2, -1]])
+    return np.concatenate(out).reshape(-1, 2, 2)
+
+
+def _reach(m: EFG, seg: np.ndarray) -> float:
+    """rho: how far from the changed segments a tip's influence reaches."""
+    rho = 0.0
+    if m.crack_rule == "transparency":
+        rho = m.kappa * m.spacing
+    if m.enrichment in ("radial", "full"):
+        rho = max(rho, m.ramp_outer)
+    elif m.enrichment == "pu":
+        rho = max(rho, m.pu_radius)
+    elif m.enrichment == "extrinsic_mls":
+        rho = max(rho, m.enrich_radius)
+    length = float(np.hypot(*(seg[:, 1] - seg[:, 0]).T).max(initial=0.0))
+    return rho + length
+
+
+def _points(scene: Scene, m: EFG, nodes: NodeCloud, boxes: BoxGrid) -> Points:
+    """The domain points of :func:`~efgkit.methods.discretize.discretize`, in its order."""
+    if m.quadrature == "cells":
+        pts = cell_points(scene.domain, m.cell_size or m.spacing, m.order,
+                          zones=m.zones + m.tip_cell_zones(scene), refined_order=m.refined_order,
+                          cracks=scene.cracks, tip_rays=shadow_rays(scene, nodes),
+                          tip_order=m.tip_order)
+    else:
+        pts = triangle_points(scene.domain, nodes.x, m.order)
+    order = np.argsort(boxes.box_of(pts.x), kind="stable")
+    return Points(pts.x[order], pts.w[order], None if pts.owner is None else pts.owner[order])
+
+
+def _match(a: Points, b: Points) -> tuple[np.ndarray, np.ndarray]:
+    """Indices (ia, ib) of the points with bitwise equal (x, y, w) in ``a`` and ``b``."""
+    def keys(p):
+        k = np.ascontiguousarray(np.column_stack([p.x, p.w]))
+        return k.view(np.dtype((np.void, 24))).ravel()
+
+    _, ia, ib = np.intersect1d(keys(a), keys(b), assume_unique=False, return_indices=True)
+    return ia, ib
+
+
+def _touched(x: np.ndarray, nodes: NodeCloud, affected: np.ndarray, seg, rho) -> np.ndarray:
+    """Points ``x`` within rho of ``seg`` or with an affected neighbour node, (n,) bool."""
+    out = _segment_distance(x, seg) < rho if len(seg) else np.zeros(len(x), bool)
+    a = np.flatnonzero(affected)
+    if len(a) == 0:
+        return out
+    lo = (nodes.x[a] - nodes.radius[a, None]).min(axis=0)
+    hi = (nodes.x[a] + nodes.radius[a, None]).max(axis=0)
+    cand = np.flatnonzero(((x >= lo) & (x <= hi)).all(axis=1) & ~out)
+    sub = NodeCloud(nodes.x[a], nodes.radius[a], nodes.boundary[a])
+    nb = find_neighbours(x[cand], sub, BoxGrid.build(sub))
+    out[cand[nb.mask.any(axis=1)]] = True
+    return out
+
+
+def _rows(sh: Shape, rows: np.ndarray) -> Shape:
+    """Shape ``sh`` at the points ``rows``."""
+    extra = None
+    if sh.extra is not None:
+        extra = Extra(*(None if getattr(sh.extra, k) is None else
+                        csr_array(getattr(sh.extra, k)[rows, :]) for k in _OPS))
+    return Shape(sh.neighbours.subset(rows), sh.values[rows], sh.ddx[rows], sh.ddy[rows],
+                 sh.n_functions, extra)
+
+
+def _extra_rows(sh: Shape) -> np.ndarray:
+    """Points with any stored enrichment entry, (n_points,) bool."""
+    out = np.zeros(len(sh.values), bool)
+    if sh.extra is not None:
+        for k in _OPS:
+            op = getattr(sh.extra, k)
+            if op is not None:
+                out |= np.diff(op.indptr) > 0
+    return out
+
+
+def _scatter(op: csr_array, rows: np.ndarray, n: int) -> csr_array:
+    """csr (len(rows), m) -> (n, m) with its rows at ``rows`` (sorted), zero elsewhere."""
+    counts = np.zeros(n, np.int64)
+    counts[rows] = np.diff(op.indptr)
+    indptr = np.concatenate([[0], np.cumsum(counts)])
+    return csr_array((op.data, op.indices, indptr), shape=(n, op.shape[1]))
+
+
+def _compose(n: int, keep_new, keep_old, old: Shape, rec: np.ndarray, new: Shape,
+             n_functions: int) -> Shape:
+    """The shape at all n new points: rows ``keep_new`` from ``old[keep_old]``, rows
+    ``rec`` from ``new`` (whose enrichment block is the only one)."""
+    k = max(old.neighbours.idx.shape[1], new.neighbours.idx.shape[1])
+    idx = np.zeros((n, k), old.neighbours.idx.dtype)
+    mask = np.zeros((n, k), bool)
+    vals = [np.zeros((n, k)) for _ in range(3)]
+    for src, at, r in ((old, keep_new, keep_old), (new, rec, slice(None))):
+        kk = src.neighbours.idx.shape[1]
+        idx[at, :kk] = src.neighbours.idx[r]
+        mask[at, :kk] = src.neighbours.mask[r]
+        for v, s in zip(vals, (src.values, src.ddx, src.ddy), strict=True):
+            v[at, :kk] = s[r]
+    extra = None
+    if new.extra is not None:
+        extra = Extra(*(_scatter(getattr(new.extra, key), rec, n) for key in _OPS))
+    return Shape(Neighbours(idx, mask), vals[0], vals[1], vals[2], n_functions, extra)
+
+
+def _resize(K: csr_array, n: int) -> csr_array:
+    """The leading block of K, or K padded with zeros, as (n, n)."""
+    K = csr_array(K[: min(n, K.shape[0]), : min(n, K.shape[1])])
+    if K.shape[0] == n:
+        return K
+    indptr = np.concatenate([K.indptr, np.full(n - K.shape[0], K.indptr[-1])])
+    return csr_array((K.data, K.indices, indptr), shape=(n, n))
+
+
+def update(previous: Assembled | None, scene: Scene, method: EFG) -> Assembled:
+    """K and f of ``scene`` from those of the previous growth step.
+
+    Parameters
+    ----------
+    previous : Assembled or None
+        The last step's system (None: full build).
+    scene : Scene
+        The scene after the crack increment (same domain, material, loads).
+    method : EFG
+
+    Returns
+    -------
+    Assembled
+        With ``reason`` None when the update was incremental; otherwise a full build and
+        the reason (node cloud changed, unramped extrinsic fields, ...).
+    """
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene must be a Scene, got {type(scene).__name__}")
+    if not isinstance(method, EFG):
+        raise TypeError(f"method must be an EFG description, got {type(method).__name__}")
+    m = method.for_scene(scene)
+    if previous is None:
+        return assemble(scene, m)
+    if not isinstance(previous, Assembled):
+        raise TypeError(f"previous must be an Assembled (or None), got {type(previous).__name__}")
+    reason = _why_not(previous, scene, m)
+    if reason is not None:
+        return assemble(scene, m, reason)
+    t0 = time.perf_counter()
+    old = previous.disc
+    nodes = generate_nodes(scene.domain, m, scene.cracks)
+    if nodes.n != old.nodes.n or not np.array_equal(nodes.x, old.nodes.x) or \
+            not np.array_equal(nodes.radius, old.nodes.radius):
+        return assemble(scene, m, "the node cloud changed (a node on the new segment is split)")
+    approx = approximation(scene, m, nodes)
+    pts = _points(scene, m, nodes, approx.boxes)
+    io, inew = _match(old.points, pts)
+    seg = _changed_segments(old.scene, scene)
+    rho = _reach(m, seg)
+    affected = _segment_distance(nodes.x, seg) < nodes.radius + rho
+    for enr in (old.approx.enrichment, approx.enrichment):
+        if enr is not None and enr.pu_nodes is not None:
+            affected[enr.pu_nodes] = True
+        if enr is not None and enr.node_q is not None:
+            affected |= (enr.node_q != 0).any(axis=(0, 2, 3))
+    flag_new = np.ones(len(pts.w), bool)
+    flag_old = np.ones(len(old.points.w), bool)
+    both = _touched(pts.x[inew], nodes, affected, seg, rho) | _extra_rows(old.shape)[io]
+    flag_new[inew], flag_old[io] = both, both
+    rec, gone = np.flatnonzero(flag_new), np.flatnonzero(flag_old)
+    new_rows = approx.shape(pts.x[rec])
+    D = scene.material.D
+    n_dofs = approx.n_dofs
+    K = previous.K
+    if len(gone):
+        K = K - stiffness(_rows(old.shape, gone), old.points.w[gone], D)
+    K = _resize(_resize(K, 2 * nodes.n), n_dofs)
+    if len(rec):
+        K = K + stiffness(new_rows, pts.w[rec], D)
+    keep_new, keep_old = inew[~both], io[~both]
+    shape = _compose(len(pts.w), keep_new, keep_old, old.shape, rec, new_rows, nodes.n)
+    disc = Discretization(scene, m, nodes, pts, shape, approx,
+                          {"incremental": time.perf_counter() - t0})
+    f = loads(disc)  # boundary rows are few; a body force uses the composed rows
+    return Assembled(disc, csr_array(K), f, len(rec), None, time.perf_counter() - t0)
