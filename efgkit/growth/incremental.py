@@ -153,8 +153,9 @@ def _reach(m: EFG, seg: np.ndarray) -> float:
     return rho + length
 
 
-def _points(scene: Scene, m: EFG, nodes: NodeCloud, boxes: BoxGrid) -> Points:
-    """The domain points of :func:`~efgkit.methods.discretize.discretize`, in its order."""
+def _points(scene: Scene, m: EFG, nodes: NodeCloud, boxes: BoxGrid):
+    """The domain points of :func:`~efgkit.methods.discretize.discretize`, in its order (by
+    search box, stably), and their box indices (n_points,)."""
     if m.quadrature == "cells":
         pts = cell_points(scene.domain, m.cell_size or m.spacing, m.order,
                           zones=m.zones + m.tip_cell_zones(scene), refined_order=m.refined_order,
@@ -162,23 +163,47 @@ def _points(scene: Scene, m: EFG, nodes: NodeCloud, boxes: BoxGrid) -> Points:
                           tip_order=m.tip_order)
     else:
         pts = triangle_points(scene.domain, nodes.x, m.order)
-    order = np.argsort(boxes.box_of(pts.x), kind="stable")
-    return Points(pts.x[order], pts.w[order], None if pts.owner is None else pts.owner[order])
+    box = boxes.box_of(pts.x)
+    order = np.argsort(box, kind="stable")
+    return Points(pts.x[order], pts.w[order], None if pts.owner is None else pts.owner[order]), \
+        box[order]
 
 
-def _match(a: Points, b: Points) -> tuple[np.ndarray, np.ndarray]:
-    """Indices (ia, ib) of the points with bitwise equal (x, y, w) in ``a`` and ``b``."""
-    def keys(p):
-        k = np.ascontiguousarray(np.column_stack([p.x, p.w]))
-        return k.view(np.dtype((np.void, 24))).ravel()
+def _match(a: Points, box_a: np.ndarray, b: Points, box_b: np.ndarray):
+    """Indices (ia, ib) of the points of ``a`` and ``b`` with bitwise equal (x, y, w).
 
-    _, ia, ib = np.intersect1d(keys(a), keys(b), assume_unique=False, return_indices=True)
-    return ia, ib
+    Both are sorted by search box, and within a box in generation order: the boxes that
+    hold as many points in both are compared position by position (O(n), no sort); points
+    of other boxes, or that differ, stay unmatched (and are recomputed)."""
+    nbox = int(max(box_a.max(initial=-1), box_b.max(initial=-1))) + 2
+    ca = np.bincount(box_a + 1, minlength=nbox)
+    cb = np.bincount(box_b + 1, minlength=nbox)
+    start_a = np.concatenate([[0], np.cumsum(ca)[:-1]])
+    start_b = np.concatenate([[0], np.cumsum(cb)[:-1]])
+    ib = np.flatnonzero((ca == cb)[box_b + 1])
+    bx = box_b[ib] + 1
+    ia = start_a[bx] + (ib - start_b[bx])
+    same = (a.x[ia] == b.x[ib]).all(axis=1) & (a.w[ia] == b.w[ib])
+    return ia[same], ib[same]
+
+
+def _near(x: np.ndarray, seg: np.ndarray, reach) -> np.ndarray:
+    """Points ``x (n, 2)`` closer than ``reach`` (scalar or (n,)) to a segment, (n,) bool:
+    distances only inside the segments' box grown by the largest reach."""
+    out = np.zeros(len(x), bool)
+    if len(seg) == 0:
+        return out
+    r = np.broadcast_to(reach, (len(x),))
+    top = float(r.max(initial=0.0))
+    lo, hi = seg.reshape(-1, 2).min(axis=0) - top, seg.reshape(-1, 2).max(axis=0) + top
+    c = np.flatnonzero(((x >= lo) & (x <= hi)).all(axis=1))
+    out[c] = _segment_distance(x[c], seg) < r[c]
+    return out
 
 
 def _touched(x: np.ndarray, nodes: NodeCloud, affected: np.ndarray, seg, rho) -> np.ndarray:
     """Points ``x`` within rho of ``seg`` or with an affected neighbour node, (n,) bool."""
-    out = _segment_distance(x, seg) < rho if len(seg) else np.zeros(len(x), bool)
+    out = _near(x, seg, rho)
     a = np.flatnonzero(affected)
     if len(a) == 0:
         return out
@@ -224,20 +249,24 @@ def _compose(n: int, keep_new, keep_old, old: Shape, rec: np.ndarray, new: Shape
              n_functions: int) -> Shape:
     """The shape at all n new points: rows ``keep_new`` from ``old[keep_old]``, rows
     ``rec`` from ``new`` (whose enrichment block is the only one)."""
-    k = max(old.neighbours.idx.shape[1], new.neighbours.idx.shape[1])
-    idx = np.zeros((n, k), old.neighbours.idx.dtype)
-    mask = np.zeros((n, k), bool)
-    vals = [np.zeros((n, k)) for _ in range(3)]
-    for src, at, r in ((old, keep_new, keep_old), (new, rec, slice(None))):
-        kk = src.neighbours.idx.shape[1]
-        idx[at, :kk] = src.neighbours.idx[r]
-        mask[at, :kk] = src.neighbours.mask[r]
-        for v, s in zip(vals, (src.values, src.ddx, src.ddy), strict=True):
-            v[at, :kk] = s[r]
+    k_old, k_new = old.neighbours.idx.shape[1], new.neighbours.idx.shape[1]
+    src = np.zeros(n, np.int64)  # one gather of the old rows (rec rows overwritten below)
+    src[keep_new] = keep_old
+    arrays = [np.take(a, src, axis=0) for a in (old.neighbours.idx, old.neighbours.mask,
+                                                 old.values, old.ddx, old.ddy)]
+    arrays[1][rec] = False
+    if k_new > k_old:
+        arrays = [np.pad(a, ((0, 0), (0, k_new - k_old))) for a in arrays]
+    for a, b in zip(arrays, (new.neighbours.idx, new.neighbours.mask, new.values, new.ddx,
+                             new.ddy), strict=True):
+        a[rec, :k_new] = b
+        if k_new < a.shape[1]:
+            a[rec, k_new:] = 0
     extra = None
     if new.extra is not None:
         extra = Extra(*(_scatter(getattr(new.extra, key), rec, n) for key in _OPS))
-    return Shape(Neighbours(idx, mask), vals[0], vals[1], vals[2], n_functions, extra)
+    return Shape(Neighbours(arrays[0], arrays[1]), arrays[2], arrays[3], arrays[4], n_functions,
+                 extra)
 
 
 def _resize(K: csr_array, n: int) -> csr_array:
@@ -285,11 +314,11 @@ def update(previous: Assembled | None, scene: Scene, method: EFG) -> Assembled:
             not np.array_equal(nodes.radius, old.nodes.radius):
         return assemble(scene, m, "the node cloud changed (a node on the new segment is split)")
     approx = approximation(scene, m, nodes)
-    pts = _points(scene, m, nodes, approx.boxes)
-    io, inew = _match(old.points, pts)
+    pts, box = _points(scene, m, nodes, approx.boxes)
+    io, inew = _match(old.points, approx.boxes.box_of(old.points.x), pts, box)
     seg = _changed_segments(old.scene, scene)
     rho = _reach(m, seg)
-    affected = _segment_distance(nodes.x, seg) < nodes.radius + rho
+    affected = _near(nodes.x, seg, nodes.radius + rho)
     for enr in (old.approx.enrichment, approx.enrichment):
         if enr is not None and enr.pu_nodes is not None:
             affected[enr.pu_nodes] = True
