@@ -118,8 +118,8 @@ def _segment_distance(x: np.ndarray, seg: np.ndarray) -> np.ndarray:
 
 
 def _changed_segments(old: Scene, new: Scene) -> np.ndarray:
-    """Segments in one scene and not the other, and the last segment of every old and new
-    tip, shape (s, 2, 2)."""
+    """Segments in one scene and not the other, and every old and new tip as a segment of
+    length 0, shape (s, 2, 2)."""
     def segs(sc):
         return np.concatenate([c.segments for c in sc.cracks]).reshape(-1, 2, 2) if sc.cracks \
             else np.zeros((0, 2, 2))
@@ -128,29 +128,34 @@ def _changed_segments(old: Scene, new: Scene) -> np.ndarray:
     key = [s.reshape(len(s), -1) for s in (so, sn)]
     out = [s[~(k[:, None, :] == kk[None, :, :]).all(axis=2).any(axis=1)]
            for s, k, kk in ((so, key[0], key[1]), (sn, key[1], key[0]))]
-    for sc in (old, new):
-        for c in sc.cracks:
-            v = np.asarray(c.vertices, float)
-            if c.tips[0]:
-                out.append(v[None, [1, 0]])
-            if c.tips[1]:
-                out.append(v[None, [-2, -1]])
+    tips = [t.x for sc in (old, new) for t in sc.tips]
+    out += [np.array([[x, x]]) for x in tips]
     return np.concatenate(out).reshape(-1, 2, 2)
 
 
-def _reach(m: EFG, seg: np.ndarray) -> float:
-    """rho: how far from the changed segments a tip's influence reaches."""
-    rho = 0.0
-    if m.crack_rule == "transparency":
-        rho = m.kappa * m.spacing
-    if m.enrichment in ("radial", "full"):
-        rho = max(rho, m.ramp_outer)
-    elif m.enrichment == "pu":
-        rho = max(rho, m.pu_radius)
-    elif m.enrichment == "extrinsic_mls":
-        rho = max(rho, m.enrich_radius)
-    length = float(np.hypot(*(seg[:, 1] - seg[:, 0]).T).max(initial=0.0))
-    return rho + length
+def _enrichment_discs(enrichments) -> list[tuple[np.ndarray, float]]:
+    """Discs (centre, radius) holding every point whose ramped enrichment (intrinsic, or
+    extrinsic with enrich_radius) can be non-zero: r < r2 of a tip, and with a kink map
+    (:func:`~efgkit.approx.tip_functions.tip_coordinates`, which keeps the distance rb to
+    the kink, so r >= |rb - L|) the points within L + r2 of the kink."""
+    out = []
+    for enr in enrichments:
+        if enr is None or enr.kind == "pu" or not np.isfinite(enr.r2):
+            continue
+        for g in enr.tips:
+            out.append((np.asarray(g.tip.x, float), enr.r2))
+            if g.kink is not None:
+                out.append((g.kink, float(np.hypot(*(g.tip.x - g.kink))) + enr.r2))
+    return out
+
+
+def _in_discs(x: np.ndarray, discs) -> np.ndarray:
+    """Points ``x (n, 2)`` inside any of ``discs``, (n,) bool."""
+    out = np.zeros(len(x), bool)
+    for c, r in discs:  # a few discs
+        box = np.flatnonzero((np.abs(x - c) < r).all(axis=1))
+        out[box[np.hypot(*(x[box] - c).T) < r]] = True
+    return out
 
 
 def _points(scene: Scene, m: EFG, nodes: NodeCloud, boxes: BoxGrid):
@@ -201,9 +206,9 @@ def _near(x: np.ndarray, seg: np.ndarray, reach) -> np.ndarray:
     return out
 
 
-def _touched(x: np.ndarray, nodes: NodeCloud, affected: np.ndarray, seg, rho) -> np.ndarray:
-    """Points ``x`` within rho of ``seg`` or with an affected neighbour node, (n,) bool."""
-    out = _near(x, seg, rho)
+def _touched(x: np.ndarray, nodes: NodeCloud, affected: np.ndarray, discs) -> np.ndarray:
+    """Points ``x`` in an enrichment disc or with an affected neighbour node, (n,) bool."""
+    out = _in_discs(x, discs)
     a = np.flatnonzero(affected)
     if len(a) == 0:
         return out
@@ -317,8 +322,9 @@ def update(previous: Assembled | None, scene: Scene, method: EFG) -> Assembled:
     pts, box = _points(scene, m, nodes, approx.boxes)
     io, inew = _match(old.points, approx.boxes.box_of(old.points.x), pts, box)
     seg = _changed_segments(old.scene, scene)
-    rho = _reach(m, seg)
-    affected = _near(nodes.x, seg, nodes.radius + rho)
+    rho = m.kappa * m.spacing if m.crack_rule == "transparency" else 0.0  # s_c < kappa h
+    discs = _enrichment_discs((old.approx.enrichment, approx.enrichment))
+    affected = _near(nodes.x, seg, nodes.radius + rho) | _in_discs(nodes.x, discs)
     for enr in (old.approx.enrichment, approx.enrichment):
         if enr is not None and enr.pu_nodes is not None:
             affected[enr.pu_nodes] = True
@@ -326,7 +332,7 @@ def update(previous: Assembled | None, scene: Scene, method: EFG) -> Assembled:
             affected |= (enr.node_q != 0).any(axis=(0, 2, 3))
     flag_new = np.ones(len(pts.w), bool)
     flag_old = np.ones(len(old.points.w), bool)
-    both = _touched(pts.x[inew], nodes, affected, seg, rho) | _extra_rows(old.shape)[io]
+    both = _touched(pts.x[inew], nodes, affected, discs) | _extra_rows(old.shape)[io]
     flag_new[inew], flag_old[io] = both, both
     rec, gone = np.flatnonzero(flag_new), np.flatnonzero(flag_old)
     new_rows = approx.shape(pts.x[rec])
