@@ -2,22 +2,30 @@
 
 The stiffness is a sum over quadrature points (seed 003 Eq. 22a),
 ``K = sum_q w_q B_q^T D B_q``, and a point's row ``B_q`` depends only on the node
-cloud, the point and the crack geometry its neighbours' supports see. When a crack
+cloud, the point, and the crack geometry its neighbours' supports see. When a crack
 gains a segment (seed 002 Sect. 3.1: only the nodes a new segment influences change)
 
     K_new = K_old - sum_{q in R_old} w_q B_q^T D B_q + sum_{q in R_new} w_q B_q^T D B_q,
 
-where ``R`` holds every point whose row can change: the points that are new or gone
-(tip cells, fan rules and cut cells move with the tip), the points with a neighbour
-node in the affected set ``A``, and the points within ``rho`` of a changed segment.
-``A`` holds the nodes whose support comes within ``rho`` of a changed segment (the
-new segments, and the last segment at every old and new tip) and every enriched node;
-``rho`` is the largest radius over which the tip acts (the intrinsic or extrinsic
-ramp radius, the PU radius, the transparency length ``kappa h``) plus the length of
-those tip segments (the kink map of the tip functions keeps distances to the kink).
-The enrichment unknowns may appear, vanish or be renumbered: every point with an
-enriched neighbour or an old enrichment entry is in ``R``, so the kept part of K is
-its nodal block, and the new enrichment rows come from ``R_new`` alone.
+where ``R`` holds every point whose row can change:
+
+* points that are new or gone: the domain points are regenerated and matched bitwise
+  (x, y, w) to the old ones (tip cells with fan rules, refined tip zones and cut cells
+  move with the tip);
+* points with a neighbour node in the affected set ``A``: the nodes whose support comes
+  within ``rho`` of a changed segment (a new segment, or an old or new tip; ``rho =
+  kappa h`` for transparency, whose opacity depends on the arc from the tip, else 0:
+  a crack rule changes a pair (x, x_I) only when the new segment cuts it or the tip it
+  is diffracted around moved, both inside the support), and every enriched node (PU
+  nodes, nodes with a non-zero ramped extrinsic field) of the old or new enrichment;
+* points inside an enrichment disc of an old or new tip (intrinsic ramp, ramped
+  extrinsic fields): r < r2 of the tip, and with a kinked crack within L + r2 of the
+  kink (the kink map keeps the distance to the kink, so r >= |r_kink - L|);
+* points with an enrichment entry in the old shape.
+
+All enrichment lives in ``R``, so the kept part of K is its nodal block; the enrichment
+unknowns may appear, vanish or be renumbered. The load vector is rebuilt from the
+composed shape rows (tractions: a few boundary points; a body force: a sparse product).
 
 The update is exact (to rounding) only with an unchanged node cloud: automatic tip
 zones (``zones=None``) and rosettes follow the tip and move nodes, and global
