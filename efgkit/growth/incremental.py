@@ -157,11 +157,17 @@ def _enrichment_discs(enrichments) -> list[tuple[np.ndarray, float]]:
     return out
 
 
+def _in_box(x: np.ndarray, lo, hi) -> np.ndarray:
+    """Points ``x (n, 2)`` strictly inside the box [lo, hi], (n,) bool."""
+    x0, x1 = x[:, 0], x[:, 1]
+    return (x0 > lo[0]) & (x0 < hi[0]) & (x1 > lo[1]) & (x1 < hi[1])
+
+
 def _in_discs(x: np.ndarray, discs) -> np.ndarray:
     """Points ``x (n, 2)`` inside any of ``discs``, (n,) bool."""
     out = np.zeros(len(x), bool)
     for c, r in discs:  # a few discs
-        box = np.flatnonzero((np.abs(x - c) < r).all(axis=1))
+        box = np.flatnonzero(_in_box(x, c - r, c + r))
         out[box[np.hypot(*(x[box] - c).T) < r]] = True
     return out
 
@@ -196,7 +202,8 @@ def _match(a: Points, box_a: np.ndarray, b: Points, box_b: np.ndarray):
     ib = np.flatnonzero((ca == cb)[box_b + 1])
     bx = box_b[ib] + 1
     ia = start_a[bx] + (ib - start_b[bx])
-    same = (a.x[ia] == b.x[ib]).all(axis=1) & (a.w[ia] == b.w[ib])
+    xa, xb = a.x[ia], b.x[ib]
+    same = (xa[:, 0] == xb[:, 0]) & (xa[:, 1] == xb[:, 1]) & (a.w[ia] == b.w[ib])
     return ia[same], ib[same]
 
 
@@ -209,7 +216,7 @@ def _near(x: np.ndarray, seg: np.ndarray, reach) -> np.ndarray:
     r = np.broadcast_to(reach, (len(x),))
     top = float(r.max(initial=0.0))
     lo, hi = seg.reshape(-1, 2).min(axis=0) - top, seg.reshape(-1, 2).max(axis=0) + top
-    c = np.flatnonzero(((x >= lo) & (x <= hi)).all(axis=1))
+    c = np.flatnonzero(_in_box(x, lo, hi))
     out[c] = _segment_distance(x[c], seg) < r[c]
     return out
 
@@ -222,7 +229,7 @@ def _touched(x: np.ndarray, nodes: NodeCloud, affected: np.ndarray, discs) -> np
         return out
     lo = (nodes.x[a] - nodes.radius[a, None]).min(axis=0)
     hi = (nodes.x[a] + nodes.radius[a, None]).max(axis=0)
-    cand = np.flatnonzero(((x >= lo) & (x <= hi)).all(axis=1) & ~out)
+    cand = np.flatnonzero(_in_box(x, lo, hi) & ~out)
     sub = NodeCloud(nodes.x[a], nodes.radius[a], nodes.boundary[a])
     nb = find_neighbours(x[cand], sub, BoxGrid.build(sub))
     out[cand[nb.mask.any(axis=1)]] = True
@@ -283,12 +290,26 @@ def _compose(n: int, keep_new, keep_old, old: Shape, rec: np.ndarray, new: Shape
 
 
 def _resize(K: csr_array, n: int) -> csr_array:
-    """The leading block of K, or K padded with zeros, as (n, n)."""
-    K = csr_array(K[: min(n, K.shape[0]), : min(n, K.shape[1])])
-    if K.shape[0] == n:
-        return K
-    indptr = np.concatenate([K.indptr, np.full(n - K.shape[0], K.indptr[-1])])
-    return csr_array((K.data, K.indices, indptr), shape=(n, n))
+    """The leading (n, n) block of a csr K with sorted indices, or K padded with zeros.
+
+    Truncation keeps the leading rows (a view of ``indptr``) and drops the few entries in
+    columns >= n (the enrichment block) with one mask: no general submatrix copy."""
+    K = csr_array(K)
+    if not K.has_sorted_indices:
+        K.sort_indices()
+    m = min(n, K.shape[0])
+    indptr, end = K.indptr[: m + 1], int(K.indptr[m])
+    indices, data = K.indices[:end], K.data[:end]
+    drop = np.flatnonzero(indices >= n)
+    if len(drop):
+        keep = np.ones(end, bool)
+        keep[drop] = False
+        indices, data = indices[keep], data[keep]
+        removed = np.bincount(np.searchsorted(indptr, drop, side="right") - 1, minlength=m)
+        indptr = indptr - np.concatenate([[0], np.cumsum(removed)])
+    if m < n:
+        indptr = np.concatenate([indptr, np.full(n - m, indptr[-1])])
+    return csr_array((data, indices, indptr), shape=(n, n))
 
 
 def update(previous: Assembled | None, scene: Scene, method: EFG) -> Assembled:
@@ -346,12 +367,13 @@ def update(previous: Assembled | None, scene: Scene, method: EFG) -> Assembled:
     new_rows = approx.shape(pts.x[rec])
     D = scene.material.D
     n_dofs = approx.n_dofs
-    K = previous.K
+    delta = csr_array((n_dofs, n_dofs))  # K(R_new) - K(R_old), small: one pass over K
     if len(gone):
-        K = K - stiffness(_rows(old.shape, gone), old.points.w[gone], D)
-    K = _resize(_resize(K, 2 * nodes.n), n_dofs)
+        delta = delta - _resize(_resize(stiffness(_rows(old.shape, gone), old.points.w[gone], D),
+                                        2 * nodes.n), n_dofs)
     if len(rec):
-        K = K + stiffness(new_rows, pts.w[rec], D)
+        delta = delta + stiffness(new_rows, pts.w[rec], D)
+    K = _resize(_resize(previous.K, 2 * nodes.n), n_dofs) + delta
     keep_new, keep_old = inew[~both], io[~both]
     shape = _compose(len(pts.w), keep_new, keep_old, old.shape, rec, new_rows, nodes.n)
     disc = Discretization(scene, m, nodes, pts, shape, approx,
