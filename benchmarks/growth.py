@@ -37,19 +37,21 @@ ROOT = Path(__file__).resolve().parents[1]
 ANGLES = (0.3, -0.2, 0.25, -0.3, 0.1, -0.15)
 
 
-def scene_and_method(n_side: int):
-    """The benchmark scene (n_side^2 grid nodes) and its EFG."""
+def scene_and_method(n_side: int, enrichment: str = "auto"):
+    """The benchmark scene (n_side^2 grid nodes) and its EFG ("auto": ramped extrinsic MLS
+    over 2 h; "pu": PU nodes within 1.5 h of the tip)."""
     h = 1.0 / (n_side - 1)
     sc = Scene(Domain.rectangle(0, 0, 1, 1), Elastic(1.0, 0.3, "strain"),
                supports=(Support("bottom", uy=0.0), Support("left", ux=0.0)),
                tractions=(Traction("top", (0.0, 1.0)),),
                cracks=(Crack([[0.0, 0.5 + h / 3], [0.3, 0.5 + h / 3]], tips=(False, True)),))
-    return sc, EFG(spacing=h, zones=(), enrich_radius=2 * h), h
+    radius = 1.5 * h if enrichment == "pu" else 2 * h
+    return sc, EFG(spacing=h, zones=(), enrichment=enrichment, enrich_radius=radius), h
 
 
-def ratio_run(n_side: int, steps: int) -> dict:
+def ratio_run(n_side: int, steps: int, enrichment: str = "auto") -> dict:
     """Interleaved incremental / full timings over ``steps`` growth steps."""
-    sc, m, h = scene_and_method(n_side)
+    sc, m, h = scene_and_method(n_side, enrichment)
     prev = assemble(sc, m)  # also compiles the kernels
     inc, full, diffs, frac = [], [], [], []
     for k in range(steps):
@@ -84,6 +86,7 @@ def main(argv=None) -> dict:
     ap.add_argument("--sides", type=int, nargs="+", default=[141, 317],
                     help="grid nodes per side (141: ~20k nodes, 224: ~50k, 317: ~100k)")
     ap.add_argument("--steps", type=int, default=4)
+    ap.add_argument("--enrichment", choices=("auto", "pu"), default="auto")
     ap.add_argument("--no-write", action="store_true", help="do not write benchmarks/out")
     args = ap.parse_args(argv)
     sides = [41] if args.quick else args.sides
@@ -91,12 +94,14 @@ def main(argv=None) -> dict:
                       f"{platform.python_version()}",
            "date": time.strftime("%Y-%m-%d"), "command": "python benchmarks/growth.py"
            + (" --quick" if args.quick else f" --sides {' '.join(map(str, sides))}"
-              f" --steps {args.steps}")}
-    runs = [ratio_run(s, args.steps) for s in sides]
+              f" --steps {args.steps}") + ("" if args.enrichment == "auto"
+                                            else f" --enrichment {args.enrichment}")}
+    runs = [ratio_run(s, args.steps, args.enrichment) for s in sides]
     res["runs"] = runs
     res["step_time_ratio"] = {str(r["n_nodes"]): r["step_time_ratio"] for r in runs}
     if not args.no_write:
-        write_json(res, ROOT / "benchmarks" / "out" / "growth.json")
+        name = "growth.json" if args.enrichment == "auto" else f"growth_{args.enrichment}.json"
+        write_json(res, ROOT / "benchmarks" / "out" / name)
     return res
 
 
