@@ -96,3 +96,16 @@ def test_update_errors():
         update("old", sc, m)
     with pytest.raises(TypeError, match="growth incremental must be a bool"):
         Growth(da=0.1, incremental=1)
+
+
+def test_update_when_a_tip_runs_onto_the_boundary():
+    # a centre crack's right tip becomes a mouth: one tip and its enrichment disappear
+    y = 0.5 + H / 3
+    sc = _scene().with_cracks((Crack([[0.5, y], [0.9, y]], tips=(True, True)),))
+    nxt = sc.with_cracks((Crack([[0.5, y], [0.9, y], [1.0, y]], tips=(True, False)),))
+    m = EFG(spacing=H, zones=(), enrichment="radial", enrich_radius=2 * H)
+    sys = update(update(None, sc, m), nxt, m)
+    ref = assemble(nxt, m)
+    assert sys.reason is None and sys.K.shape == ref.K.shape
+    assert _rel(sys.K, ref.K) < 1e-10
+    assert _rel(sys.f, ref.f) < 1e-10
