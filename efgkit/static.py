@@ -85,7 +85,8 @@ def constrained_system(disc: Discretization, K, f: np.ndarray, method: EFG | Non
     return modified_variational(K, f, bc, mat.D, beta, disc.nodes.x)
 
 
-def solve(scene: Scene, method: EFG, disc: Discretization | None = None) -> MeshlessSolution:
+def solve(scene: Scene, method: EFG, disc: Discretization | None = None, K=None,
+          f=None) -> MeshlessSolution:
     """Solve a static scene with the EFG method.
 
     Parameters
@@ -94,6 +95,9 @@ def solve(scene: Scene, method: EFG, disc: Discretization | None = None) -> Mesh
     method : EFG
     disc : Discretization, optional
         Reuse a discretisation of the same scene and method.
+    K, f : csr_array (n_dofs, n_dofs) and ndarray (n_dofs,), optional
+        The stiffness and load vector of ``disc`` when already assembled (the incremental
+        growth update, :mod:`efgkit.growth.incremental`); built from ``disc`` otherwise.
 
     Returns
     -------
@@ -139,9 +143,9 @@ def solve(scene: Scene, method: EFG, disc: Discretization | None = None) -> Mesh
         disc = discretize(scene, method)
         sw = Stopwatch(disc.timings | {k: v + disc.timings.get(k, 0.0) for k, v in sw.timings.items()})
     mat, m = scene.material, method
-    K = stiffness(disc.shape, disc.points.w, mat.D)
+    K = stiffness(disc.shape, disc.points.w, mat.D) if K is None else K
     sw.lap("stiffness")
-    f = loads(disc)
+    f = loads(disc) if f is None else f
     sw.lap("loads")
     system = constrained_system(disc, K, f, m)
     sw.lap("constraints")

@@ -2,8 +2,9 @@
 
 Each step (seed 003 Sect. 6):
 
-1. discretise the current scene (:func:`rediscretize`: one call, the place where an
-   incremental update of only what the new segment touches will go) and solve it
+1. discretise the current scene (:func:`rediscretize`: a full rebuild, or with
+   ``Growth.incremental`` an update of only what the new segment touches,
+   :mod:`efgkit.growth.incremental`) and solve it
    (:func:`efgkit.solve` for EFG, :func:`efgkit.fem.solve_fem` for the FE reference: the
    same :class:`~efgkit.solution.Solution` contract);
 2. K_I, K_II of every active tip (``sol.sifs(error=settings.sif_error)``);
@@ -39,6 +40,7 @@ from ..methods.efg import EFG
 from ..problem.scene import Scene
 from ..static import solve
 from .extend import advance
+from .incremental import Assembled, update
 from .settings import Growth
 
 __all__ = ["GrowthState", "GrowthStep", "grow", "growth_method", "rediscretize"]
@@ -123,16 +125,22 @@ class GrowthState:
     events: tuple[str, ...] = ()
 
 
-def rediscretize(scene: Scene, method, previous=None):
-    """The discretisation of ``scene`` for a growth step: today a full rebuild
-    (:func:`efgkit.discretize`; None for FEM, which remeshes inside :func:`solve_fem`).
+def rediscretize(scene: Scene, method, previous=None, incremental: bool = False):
+    """The discretisation of ``scene`` for a growth step (None for FEM, which remeshes
+    inside :func:`solve_fem`).
 
-    ``previous`` (the last step's discretisation) is what an incremental update would
-    start from; it is not used yet.
+    Without ``incremental`` a full rebuild (:func:`efgkit.discretize`); with it an
+    :class:`~efgkit.growth.incremental.Assembled` (discretisation, K and f) updated from
+    ``previous`` (the last step's) where only the quadrature points whose shape rows the
+    new segments, the moved tips and the moved enrichment touch are recomputed
+    (:func:`~efgkit.growth.incremental.update`; a full build when the node cloud changes,
+    e.g. with automatic tip zones, and for unramped extrinsic fields).
     """
-    if isinstance(method, EFG):
-        return discretize(scene, method)
-    return None
+    if not isinstance(method, EFG):
+        return None
+    if incremental:
+        return update(previous if isinstance(previous, Assembled) else None, scene, method)
+    return discretize(scene, method)
 
 
 def growth_method(method, settings: Growth):
@@ -149,6 +157,8 @@ def growth_method(method, settings: Growth):
 
 
 def _solve(scene, method, disc):
+    if isinstance(disc, Assembled):
+        return solve(scene, method, disc.disc, K=disc.K, f=disc.f)
     if isinstance(method, EFG):
         return solve(scene, method, disc)
     return solve_fem(scene, method)
@@ -214,7 +224,7 @@ def grow(scene: Scene, method, settings: Growth, start: GrowthState | None = Non
     disc = None
     while True:
         t0 = time.perf_counter()
-        disc = rediscretize(scene, method, disc)
+        disc = rediscretize(scene, method, disc, settings.incremental)
         t1 = time.perf_counter()
         sol = _solve(scene, method, disc)
         t2 = time.perf_counter()

@@ -69,6 +69,12 @@ class Growth:
     sif_error : bool
         Estimate the error of every K (one coarser solve per step,
         :meth:`efgkit.solution.Solution.sifs`); off by default (25 % more per step).
+    incremental : bool
+        EFG: update K and f from the previous step where the new segment, the moved tip and
+        the moved enrichment touch (:mod:`efgkit.growth.incremental`) instead of rebuilding;
+        it applies when the node cloud stays (fixed ``zones``, e.g. ``zones=()``, no
+        rosette) and the enrichment is ramped or PU, and falls back to a full rebuild
+        otherwise. Same K (to rounding), so the same path and SIFs.
 
     Examples
     --------
@@ -91,6 +97,7 @@ class Growth:
     dK_change: float = 0.05
     snap: float = 0.5
     sif_error: bool = False
+    incremental: bool = False
 
     def __post_init__(self):
         _positive("da", self.da)
@@ -113,7 +120,7 @@ class Growth:
                                  f"paris_C={self.paris_C!r}, paris_m={self.paris_m!r}")
             _positive("paris_C", self.paris_C)
             _positive("paris_m", self.paris_m)
-        for name in ("stop_unstable", "adaptive", "sif_error"):
+        for name in ("stop_unstable", "adaptive", "sif_error", "incremental"):
             if not isinstance(getattr(self, name), bool):
                 raise TypeError(f"growth {name} must be a bool, got {getattr(self, name)!r}")
 
