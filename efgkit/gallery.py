@@ -143,7 +143,11 @@ def dent(a_over_b: float = 0.5, h_over_b: float = 3.0, b: float = 1.0, sigma: fl
 
     stated accurate to 0.5 % for any alpha in a long strip. efgkit's FEM (P2, quarter-point
     tips, h = 0.1 b, tip h = 0.0025 b, h/b = 3 and 6 alike) gives 1.4654 at alpha = 0.5,
-    0.55 % above the formula's 1.4573.
+    0.55 % above the formula's 1.4573 (Richardson-extrapolated from h = W/20 to W/80:
+    1.46544, ``verification/defaults.py``). The other DENT fit commonly quoted from Tada,
+    ``(1.122 - 0.561 alpha - 0.205 alpha^2 + 0.471 alpha^3 - 0.190 alpha^4) / sqrt(1 - alpha)``,
+    gives 1.4840, 1.27 % above the converged FEM: the two fits disagree by 1.8 %, so it is
+    unconfirmed which (if either) is right until checked against the handbook itself.
     """
     a_over_b, h = _ratio("a_over_b", a_over_b, 0, 1), _ratio("h_over_b", h_over_b, 0, 1e6) * b
     a = a_over_b * b

@@ -15,8 +15,8 @@ def test_core_benchmark_quick_runs():
     res = mod.main(["--quick", "--repeat", "1", "--no-write"])
     assert res["mls"][0]["n_points"] > 0 and res["end_to_end"]["solver"]["residual"] < 1e-8
     # the prescribed Williams field has K_I = 1 (seed 003 Sect. 5.6.1); 41 x 41 nodes, linear
-    # basis: K within a few per cent
-    assert abs(res["sif"]["KI_3"] - 1.0) < 0.05 and "`sifs`, 17 radii" in mod.markdown(res, "cmd")
+    # basis: measured K_I - 1 = +5.1e-3
+    assert abs(res["sif"]["KI_3"] - 1.0) < 0.015 and "`sifs`, 17 radii" in mod.markdown(res, "cmd")
 
 
 def test_work_precision_quick_runs_and_reports_every_curve():

@@ -382,15 +382,18 @@ def _usable_params():
 def test_enriched_combinations_are_no_worse_than_the_linear_basis(enrichment, rule, layout):
     """An enrichment that solves must be usable: energy error within 10 % of the linear basis
     under the same rule (under diffraction for see-through, which the seed recommends only
-    with enrichment, Sect. 4.4), and the extrinsic K_I within 5 % of the prescribed 1."""
+    with enrichment, Sect. 4.4), and the extrinsic K_I within 0.3 % of the prescribed 1."""
     res = _combination(enrichment, rule, layout)
     assert res["status"] == "solved"
     ref = _combination("none", "diffraction" if rule == "see_through" else rule, layout)["energy"]
     assert res["energy"] <= 1.1 * ref, (res["energy"], ref)
+    # K_I = 1: the prescribed Williams field (seed 003 Sect. 5.6.1). Measured: extrinsic K_I
+    # within 8.9e-4 of 1 (transparency, between rows; the others 1.4e-5 to 5.8e-4); energy
+    # error / linear basis under diffraction: extrinsic 4.0e-4 and 9.8e-4, PU 0.022 and 0.032
     if enrichment == "extrinsic_mls":
-        assert abs(res["KI"] - 1.0) <= 0.05, res["KI"]
+        assert abs(res["KI"] - 1.0) <= 3e-3, res["KI"]
     if rule == "diffraction" and enrichment in ("extrinsic_mls", "pu"):  # contain the exact field
-        assert res["energy"] <= 0.05 * ref
+        assert res["energy"] <= (3e-3 if enrichment == "extrinsic_mls" else 0.05) * ref
 
 
 def test_intrinsic_blend_is_continuous_across_the_straight_r2_circle_of_a_kinked_crack():

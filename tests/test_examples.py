@@ -26,6 +26,10 @@ SIF_REFERENCE = {"edge_crack": {"edge:1": (34.0, 4.55)},
                  # 2.2; the SENT's 0.5 % accurate); measured 0.1 % off (both)
                  "sent_tension": {"edge:1": (2.827 * 1.2533141373155001, 0.0)},
                  "cct_tension": {f"centre:{e}": (1.186 * 1.2533141373155001, 0.0) for e in (0, 1)}}
+# Relative bounds on K: measured K_I / K_I,ref - 1 = +7.6e-4 and K_II -2.9e-3 (edge_crack,
+# Wilson's 3 digits), -1.08e-3 (sent_tension: the bound is the handbook fit's stated 0.5 %,
+# below which the reference cannot judge), +1.39e-3 (cct_tension, Tada's fit 0.1 %)
+SIF_TOL = {"edge_crack": 0.01, "sent_tension": 0.005, "cct_tension": 0.004}
 
 
 @pytest.mark.parametrize("path", EXAMPLES, ids=[p.stem for p in EXAMPLES])
@@ -37,6 +41,7 @@ def test_shipped_scene_runs(path):
         assert sol.errors()["energy"] < ENERGY_BOUND[scene.name]
     for tip in sol.sifs() if scene.cracks else ():
         KI, KII = SIF_REFERENCE[scene.name][tip.tip.id]
-        assert abs(tip.KI / KI - 1) < 0.01
-        assert abs(tip.KII / KII - 1) < 0.01 if KII else abs(tip.KII) < 1e-3 * abs(KI)
+        tol = SIF_TOL[scene.name]
+        assert abs(tip.KI / KI - 1) < tol
+        assert abs(tip.KII / KII - 1) < tol if KII else abs(tip.KII) < 1e-3 * abs(KI)
         assert tip.spread < 0.01 and not tip.warnings

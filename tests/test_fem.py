@@ -203,7 +203,7 @@ def test_singular_patch_energy_error_falls_with_tip_grading(quarter_point):
     tips = (0.2, 0.05, 0.0125, 0.003125)
     errs = [_singular_patch(t, quarter_point).errors()["energy"] for t in tips]
     assert np.all(np.diff(errs) < 0)
-    assert errs[-1] < 0.03
+    assert errs[-1] < (0.02 if quarter_point else 0.03)  # measured 0.0075 and 0.021 (above)
     if quarter_point:
         assert errs[0] < 0.5 * _singular_patch(0.2).errors()["energy"]
 
@@ -449,7 +449,8 @@ def test_record_and_write_give_the_outputs_of_an_efg_run(tmp_path):
                      "singular_patch_stress.png"]
     assert json.loads((tmp_path / "out" / "singular_patch.json").read_text()) == rec
     assert rec["method"]["kind"] == "fem" and rec["n_dofs"] == sol.n_dofs
-    assert rec["errors"]["energy"] < 0.05 and set(rec["cmod"]) == {"edge"}
+    # energy error against the exact Williams field: measured 0.014
+    assert rec["errors"]["energy"] < 0.04 and set(rec["cmod"]) == {"edge"}
     tip, = rec["tips"]
     assert tip["KI"] == pytest.approx(1.0, abs=5e-4) and len(tip["domains"]) == 3
     assert sorted(sol.record(radii=(0.3, 0.5, 0.7))) == sorted(k for k in rec if k != "outputs")

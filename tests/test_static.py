@@ -63,8 +63,9 @@ def test_bc_methods_agree_on_cantilever():
                   tractions=(Traction("right", f),), exact=f)
     errs = {bc: solve(scene, EFG(spacing=0.25, bc=bc)).errors()["energy"]
             for bc in ("lagrange", "variational", "penalty")}
-    # all converge to the same discretisation error (measured ~1e-2)
-    assert max(errs.values()) < 1.3 * min(errs.values()) and max(errs.values()) < 0.05
+    # all converge to the same discretisation error against the exact cantilever field
+    # (Timoshenko & Goodier; measured 0.0132, 0.0132, 0.0135)
+    assert max(errs.values()) < 1.3 * min(errs.values()) and max(errs.values()) < 0.04
 
 
 def _cantilever(L=8.0, D=2.0, P=1.0, mat=MAT):
