@@ -16,13 +16,15 @@ from .meshless_solution import MeshlessSolution
 from .methods.boundary import eliminated_dofs, essential_conditions, loads
 from .methods.discretize import Discretization, discretize
 from .methods.efg import EFG
+from .methods.mlpg import MLPG
 from .problem.scene import Scene
 from .system.assemble import stiffness
 from .system.auxiliary import AuxiliarySpace
 from .system.constraints import eliminate, lagrange, modified_variational, penalty, rigid_body_modes
 from .system.linalg import solve as linear_solve
 
-__all__ = ["DEFAULT_PENALTY", "DEFAULT_STABILISATION", "LOCKING_PENALTY", "auxiliary_space", "solve"]
+__all__ = ["DEFAULT_PENALTY", "DEFAULT_STABILISATION", "LOCKING_PENALTY", "auxiliary_space", "solve",
+           "solve_mlpg"]
 
 # beta h / E of the penalty method. Its consistency error falls like E / (beta h), but
 # beta -> infinity is a Lagrange method with one multiplier per boundary Gauss point,
@@ -47,8 +49,8 @@ def auxiliary_space(disc: Discretization) -> AuxiliarySpace:
     return AuxiliarySpace(x, phi, disc.scene.material.D, disc.scene.domain, cuts)
 
 
-def solve(scene: Scene, method: EFG, disc: Discretization | None = None) -> MeshlessSolution:
-    """Solve a static scene with the EFG method.
+def solve(scene: Scene, method: EFG | MLPG, disc: Discretization | None = None) -> MeshlessSolution:
+    """Solve a static scene with the EFG method (or MLPG: :func:`solve_mlpg`).
 
     Parameters
     ----------
@@ -84,6 +86,8 @@ def solve(scene: Scene, method: EFG, disc: Discretization | None = None) -> Mesh
     >>> round(float(sol.displacement([[2.0, 0.5]])[0, 0]), 6)   # sigma L / E = 0.002
     0.002
     """
+    if isinstance(method, MLPG):
+        return solve_mlpg(scene, method, disc)
     t_all = time.perf_counter()
     method = method.for_scene(scene)  # the automatic choices (tip zones, enrichment, bc)
     if method.bc == "penalty" and (method.penalty or DEFAULT_PENALTY) >= LOCKING_PENALTY:
@@ -126,3 +130,83 @@ def solve(scene: Scene, method: EFG, disc: Discretization | None = None) -> Mesh
     timings["total"] = time.perf_counter() - t_all + sum(disc.timings.values())
     return MeshlessSolution(disc, system.coefficients(z), info, timings,
                             resolve=lambda coarse: solve(scene, coarse))
+
+
+def solve_mlpg(scene: Scene, method: MLPG, disc: Discretization | None = None) -> MeshlessSolution:
+    """Solve a static scene with MLPG1 (seed 002 Eqs. 20-24, :mod:`efgkit.methods.local`).
+
+    bc="penalty": the penalty term is part of the local weak forms; "modified_mls": the
+    coefficients of the essential nodes are the prescribed values (row cross-out,
+    :func:`~efgkit.system.constraints.eliminate`); "collocation": the equations of the
+    essential nodes are replaced by u^h_c(x_I) = ubar_c(x_I)
+    (:func:`~efgkit.system.collocation.collocation`). The unsymmetric system goes to
+    :func:`~efgkit.system.krylov.solve_unsymmetric` (SuperLU, GMRES or BiCGSTAB).
+
+    Examples
+    --------
+    >>> from efgkit import Domain, Elastic, Scene, Support, Traction
+    >>> scene = Scene(Domain.rectangle(0, 0, 2, 1), Elastic(1000.0, 0.25, "stress"),
+    ...               supports=(Support("left", ux=0.0), Support("bottom", uy=0.0)),
+    ...               tractions=(Traction("right", (1.0, 0.0)),))
+    >>> sol = solve(scene, MLPG(spacing=0.25))
+    >>> round(float(sol.displacement([[2.0, 0.5]])[0, 0]), 6)   # sigma L / E = 0.002
+    0.002
+    """
+    from dataclasses import replace
+
+    from .methods.boundary import eliminated_dofs
+    from .methods.local import DEFAULT_MLPG_PENALTY, discretize_local, local_system
+    from .system.collocation import collocation
+    from .system.constraints import LinearSystem, check_rigid_modes, eliminate
+    from .system.krylov import solve_unsymmetric
+
+    t_all = time.perf_counter()
+    method = method.for_scene(scene)
+    disc = discretize_local(scene, method) if disc is None else disc
+    timings = dict(disc.timings)
+    mat, m = scene.material, method
+    t0 = time.perf_counter()
+    alpha = (m.penalty or DEFAULT_MLPG_PENALTY) * mat.E / m.spacing if m.bc == "penalty" else None
+    K, f = local_system(disc, alpha)
+    timings["stiffness"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    if m.bc == "penalty":
+        loc = disc.local
+        check_rigid_modes(_fixed_operator(loc), disc.nodes.x)
+        system = LinearSystem(K, f, spd=False, n_coeffs=K.shape[0])
+    else:
+        dofs, vals = eliminated_dofs(disc)
+        if m.bc == "modified_mls":
+            system = replace(eliminate(K, f, dofs, vals, disc.nodes.x), spd=False)
+        else:
+            rows = _nodal_rows(disc, dofs)
+            check_rigid_modes(rows, disc.nodes.x)
+            system = collocation(K, f, rows, vals, dofs)
+    timings["constraints"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    z, info = solve_unsymmetric(system, m.solver)
+    timings["solve"] = time.perf_counter() - t0
+    timings["total"] = time.perf_counter() - t_all + sum(disc.timings.values())
+    return MeshlessSolution(disc, system.coefficients(z), info, timings,
+                            resolve=lambda coarse: solve(scene, coarse))
+
+
+def _fixed_operator(loc) -> csr_array:
+    """Rows (boundary point, fixed component) of u^h at the sub-domains' supported pieces."""
+    Ux, Uy = loc.trial.u_operators()
+    q, c = np.nonzero(loc.fixed)
+    from scipy.sparse import vstack
+
+    n = loc.fixed.shape[0]
+    return csr_array(vstack([Ux, Uy], format="csr")[c * n + q])
+
+
+def _nodal_rows(disc: Discretization, dofs: np.ndarray) -> csr_array:
+    """u^h_c(x_I) for the equations ``dofs = 2 I + c``: rows (len(dofs), n_dofs)."""
+    from scipy.sparse import vstack
+
+    nodes = dofs // 2
+    x = disc.nodes.face_positions(disc.approx.lines, 1e-3)[nodes]
+    Ux, Uy = disc.shape_at(x, derivatives=False).u_operators()
+    k = len(nodes)
+    return csr_array(vstack([Ux, Uy], format="csr")[(dofs % 2) * k + np.arange(k)])

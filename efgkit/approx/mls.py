@@ -284,7 +284,8 @@ def _modified_path(x, nodes, nb, given, special, weight, basis, beta, derivative
 def mls_shape(x: np.ndarray, nodes: NodeCloud, weight: str = "quartic", basis: str = "linear",
               *, d_max: float = 2.0, alpha: float = 0.5, derivatives: bool = True,
               neighbours: Neighbours | None = None, interpolate: np.ndarray | None = None,
-              weights: tuple | None = None, backend: str = "numba", chunk: int = 32768) -> Shape:
+              weights: tuple | None = None, backend: str = "numba", chunk: int = 32768,
+              k: int = 1) -> Shape:
     """MLS shape functions of ``nodes`` at points ``x (n_points, 2)``.
 
     Parameters
@@ -304,6 +305,10 @@ def mls_shape(x: np.ndarray, nodes: NodeCloud, weight: str = "quartic", basis: s
     weights : (mask, w, dwx, dwy), optional
         Padded pair weights of a crack rule (:func:`efgkit.approx.crack_rules.crack_weights`),
         each (n_points, k) like ``neighbours``; ``mask`` replaces the neighbours' mask.
+    k : int
+        Exponent of the Gaussian weight (seed 002 Eq. 7; 1: seed 003 Eq. 1a). The compiled
+        kernels hold k = 1; for k > 1 the pair weights are formed by
+        :func:`~efgkit.approx.weights.pair_weights` and handed to them as given weights.
     backend : {"numba", "numpy"}
         Compiled kernel (:mod:`efgkit.approx.kernels`) or the plain-numpy
         reference; they agree to 1e-12. Points of the modified MLS always use
@@ -342,7 +347,11 @@ def mls_shape(x: np.ndarray, nodes: NodeCloud, weight: str = "quartic", basis: s
     _check_neighbour_counts(x, nb, basis, special)
     if backend not in ("numba", "numpy"):
         raise ValueError(f"backend must be 'numba' or 'numpy', got {backend!r}")
-    wfun = weight_function(weight, d_max, alpha)
+    wfun = weight_function(weight, d_max, alpha, k)
+    if weight == "gaussian" and k != 1 and given is None and backend == "numba":
+        w, dw = pair_weights(x, nodes, nb, wfun, derivatives)
+        z = np.zeros_like(w)
+        given = (w, dw[..., 0].copy(), dw[..., 1].copy()) if derivatives else (w, z, z)
     if backend == "numba" and (special is None or not special.any()):
         vals = _numba_path(x, nodes, nb, given, weight, basis, d_max / alpha, derivatives)
     elif backend == "numba" and not special.all():
