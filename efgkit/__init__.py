@@ -7,6 +7,7 @@ from .fracture.sif import TipResult
 from .meshless_solution import MeshlessSolution
 from .methods import EFG, Rosette, Zone
 from .methods.discretize import discretize
+from .methods.mlpg import MLPG
 from .problem import Crack, Domain, Elastic, Field, Loop, Scene, Support, Traction
 from .scenefile import load_scene, load_study
 from .solution import Solution
@@ -18,7 +19,7 @@ except PackageNotFoundError:  # pragma: no cover - running from a source tree
     __version__ = "0.0.0"
 
 __all__ = [
-    "Crack", "Domain", "EFG", "Elastic", "FEM", "FEMSolution", "Field", "Loop", "MeshlessSolution",
+    "Crack", "Domain", "EFG", "Elastic", "FEM", "FEMSolution", "Field", "Loop", "MeshlessSolution", "MLPG",
     "Rosette", "Scene", "Solution", "Support", "TipResult", "Traction", "Zone", "__version__",
     "discretize", "load_scene", "load_study", "solve", "solve_fem",
 ]
