@@ -42,6 +42,7 @@ from pathlib import Path
 import numpy as np
 
 from .methods.efg import EFG, Rosette, Zone
+from .methods.mlpg_file import study_method
 from .problem.crack import Crack
 from .problem.exact.fields import Field
 from .problem.geometry import Domain, Loop
@@ -264,7 +265,7 @@ _SCHEMA: dict[str, tuple[type, tuple[str, ...], dict[str, Callable | None]]] = {
         "name": _str, "material": _one("material"), "domain": _one("domain"),
         "supports": _many("supports"), "tractions": _many("tractions"),
         "body_force": _pair, "cracks": _many("cracks"), "exact": _field,
-        "duration": _num, "efg": None}),
+        "duration": _num, "efg": None, "method": None, "mlpg": None}),
     "material": (Elastic, ("E", "nu"), {"E": _num, "nu": _num, "plane": _str, "rho": _num}),
     "domain": (Domain, ("outer",), {"outer": _loop, "holes": _many("holes", _loop)}),
     "supports": (Support, ("edge",), {"edge": _str, "ux": _scalar, "uy": _scalar}),
@@ -355,14 +356,11 @@ def load_scene(path) -> Scene:
 
 
 def load_study(path) -> tuple[Scene, EFG]:
-    """Read a scene file with its discretisation: ``(Scene, EFG)`` (``[efg]`` required)."""
+    """Read a scene file with its discretisation: ``(Scene, EFG)`` (``[efg]`` required), or
+    ``(Scene, MLPG)`` with ``method = "mlpg"`` (:mod:`efgkit.methods.mlpg_file`)."""
     path, d = _read(path)
     with _at(str(path)):
-        scene = scene_from_dict(d)
-        if "efg" not in d:
-            raise ValueError("missing required key 'efg' in scene file (top level): "
-                             "a study needs the discretisation table [efg]")
-        return scene, efg_from_dict(d["efg"])
+        return scene_from_dict(d), study_method(d, efg_from_dict)
 
 
 # --- writing (the inverse maps, for round trips and saving) -----------------------------

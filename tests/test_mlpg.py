@@ -89,3 +89,39 @@ def test_coarsened_and_for_scene():
     m = MLPG(spacing=0.1)
     assert m.coarsened().spacing == 0.2
     assert m.for_scene(_tension()).zones == ()
+
+
+def test_scene_file_method_key_and_cli(tmp_path, capsys):
+    # examples/patch.toml solved by MLPG by adding the one key ``method = "mlpg"``
+    import json
+    from pathlib import Path
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from efgkit.cli import main
+    from efgkit.scenefile import load_study
+
+    src = (Path(__file__).resolve().parents[1] / "examples" / "patch.toml").read_text()
+    path = tmp_path / "patch_mlpg.toml"
+    path.write_text('method = "mlpg"\n' + src)
+    _, method = load_study(path)
+    assert isinstance(method, MLPG)
+    rc = main(["run", str(path), "--out", str(tmp_path / "out"), "--json", "--samples", "500"])
+    out, err = capsys.readouterr()
+    assert rc == 0, err
+    rep = json.loads(out)
+    assert rep["method"]["test_radius"] == 1.1 and rep["solver"]["residual"] <= 1e-8
+    # U = sigma^2 / (2 E) * area = 5e-4 (closed form of the uniform tension patch)
+    assert abs(rep["energy"] - 5e-4) < 1e-12
+
+
+def test_scene_file_errors():
+    from efgkit.methods.mlpg_file import study_method
+
+    with pytest.raises(ValueError, match="method must be one of"):
+        study_method({"method": "fem", "efg": {"spacing": 0.1}}, None)
+    with pytest.raises(ValueError, match="unknown key 'radiall' in table 'mlpg'"):
+        study_method({"method": "mlpg", "mlpg": {"spacing": 0.1, "radiall": 3}}, None)
+    with pytest.raises(ValueError, match=r"needs the discretisation table \[mlpg\]"):
+        study_method({"method": "mlpg"}, None)

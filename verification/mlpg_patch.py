@@ -20,8 +20,9 @@ CLOUDS = {"regular": dict(perturb=0.0), "perturbed": dict(perturb=0.3, seed=7)}
 BCS = ("penalty", "collocation", "modified_mls")
 RULES = {"midpoint5x8": dict(quadrature="midpoint", radial=5, angular=8),
          "midpoint10x32": dict(quadrature="midpoint", radial=10, angular=32),
-         "gauss5x8": dict(quadrature="gauss", radial=5, angular=8)}
-RECOMMENDED = "gauss5x8"
+         "gauss5x8/cut8": dict(quadrature="gauss", radial=5, angular=8, cut_angular=8),
+         "gauss5x8": dict(quadrature="gauss", radial=5, angular=8, cut_angular=16)}
+RECOMMENDED = "gauss5x8"  # the default: 16 Gauss points per angular piece of a cut disc
 
 
 def main(quick: bool = False, out_dir=None) -> dict:

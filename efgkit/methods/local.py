@@ -128,7 +128,7 @@ def discretize_local(scene: Scene, method: MLPG) -> Discretization:
     side = _face_sides(nodes, cseg)
     theta_a, span = sectors(nodes.x, r_s, allseg, scene.domain.contains, side)
     points = disc_points(nodes.x, r_s, allseg, theta_a, span, method.quadrature, method.radial,
-                         method.angular)
+                         method.angular, piece_angular=method.cut_angular)
     bpts, edge_of = boundary_pieces(nodes.x, r_s, bseg, bedge, bs, edges, method.boundary_order,
                                     blockers=cseg)
     own_side = side[bpts.owner]

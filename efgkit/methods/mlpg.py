@@ -93,6 +93,11 @@ class MLPG:
     radial, angular : int
         Rings (midpoint) or Gauss points (gauss) in r; sectors or points in theta
         (seed 002: 5 and 8).
+    cut_angular : int
+        "gauss": Gauss-Legendre points in theta on each angular piece of a disc cut by the
+        boundary or a crack (between the kinks of r_max(theta)). Patch test on a perturbed
+        cloud (h = 0.1, verification ``mlpg_patch``): displacement error 1e-6 with 8,
+        1.4e-9 with 12, 6e-12 with 16.
     boundary_order : int
         Gauss points on every piece of the body boundary inside a disc (seed 002: 8).
     order, refined_order, cell_size, tip_order :
@@ -135,6 +140,7 @@ class MLPG:
     quadrature: str = "gauss"
     radial: int = 5
     angular: int = 8
+    cut_angular: int = 16
     boundary_order: int = 8
     order: int = 4
     refined_order: int = 6
@@ -180,7 +186,7 @@ class MLPG:
         _number("weight_k", self.weight_k, integer=True)
         _choice("basis", self.basis, BASES)
         _choice("quadrature", self.quadrature, MLPG_QUADRATURES)
-        for name in ("radial", "angular", "boundary_order", "order", "refined_order", "tip_order"):
+        for name in ("radial", "angular", "cut_angular", "boundary_order", "order", "refined_order", "tip_order"):
             _number(name, getattr(self, name), integer=True)
         if self.cell_size is not None:
             _number("cell_size", self.cell_size)

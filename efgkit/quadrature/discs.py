@@ -221,11 +221,13 @@ def sectors(x: np.ndarray, r: np.ndarray, segments: np.ndarray, inside, side=Non
 
 def disc_points(x: np.ndarray, r: np.ndarray, segments: np.ndarray, theta_a: np.ndarray,
                 span: np.ndarray, rule: str = "midpoint", radial: int = 5, angular: int = 8,
-                tol: float = 1e-6) -> Points:
+                tol: float = 1e-6, piece_angular: int | None = None) -> Points:
     """Quadrature points of the visible discs of radii ``r (n,)`` about ``x (n, 2)``.
 
     The sector ``theta_a, span (n,)`` comes from :func:`sectors`; ``segments (s, 2, 2)``
-    are all boundary, hole and crack segments (rays stop at the first). Returns Points
+    are all boundary, hole and crack segments (rays stop at the first). With
+    ``rule="gauss"`` a disc cut by a segment is integrated on its angular pieces with
+    ``piece_angular`` (default ``angular``) Gauss-Legendre points each. Returns Points
     with ``owner (m,)`` the node of each point; points of zero weight are dropped.
 
     Examples
@@ -245,7 +247,8 @@ def disc_points(x: np.ndarray, r: np.ndarray, segments: np.ndarray, theta_a: np.
                            else cut)
         if len(k) == 0:
             continue
-        t, wt, rho, wr = polar_rule(rule, radial, angular, kind == "full")
+        na = piece_angular if kind == "pieces" and piece_angular is not None else angular
+        t, wt, rho, wr = polar_rule(rule, radial, na, kind == "full")
         if kind == "pieces":  # Gauss on the angular pieces between the kinks of r_max
             start, length = angular_pieces(x[k], r[k], segments, theta_a[k], span[k])
             theta = (start[:, :, None] + length[:, :, None] * t).reshape(len(k), -1)
