@@ -80,7 +80,8 @@ SECTIONS = {"patch": ("Linear patch test", patch),
             "kirsch": ("Plate with a circular hole (Kirsch)", kirsch)}
 # Later scripts carry their own section: a module-level TITLE and markdown(record) -> lines.
 ORDER = ("patch", "cantilever", "kirsch", "crack_rules", "near_tip", "singular_patch",
-         "shear_edge_crack", "q_functions", "inclined", "fem_reference", "sent", "error_estimate")
+         "shear_edge_crack", "q_functions", "inclined", "fem_reference", "sent", "error_estimate",
+         "mlpg_patch", "mlpg_cantilever", "mlpg_fracture")
 
 
 def _section(name: str):

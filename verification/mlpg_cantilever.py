@@ -1,7 +1,7 @@
 """Timoshenko cantilever (the exact field of ``cantilever``) with MLPG1 beside EFG: energy-norm
 convergence rates for the linear and quadratic bases, and a quadrature study (energy error,
-and the displacement difference from a converged rule, against the points per sub-domain, the piecewise-midpoint rule of seed 002 Eq. 39 against
-the Gauss rule).
+and the displacement difference from a converged rule, against the points per sub-domain:
+the piecewise-midpoint rule of seed 002 Eq. 39 against the Gauss rule).
 
 MLPG settings: quadratic basis with the defaults (seed 002 Sect. 4, c_I = 0.5 r_I); linear
 basis with a smooth wide Gaussian (k = 1, c_I = h, r_I = 4 h, as Atluri and Zhu use): with
@@ -28,6 +28,29 @@ RULES = {"midpoint": ((5, 8), (10, 32), (3, 6), (8, 16), (20, 64)),
 
 def _rate(h, e) -> float:
     return float(np.polyfit(np.log(h), np.log(e), 1)[0])
+
+TITLE = 'MLPG1 Timoshenko cantilever and disc-rule study'
+
+
+def markdown(r: dict) -> list[str]:
+    """The section of docs/verification.md for a full-mode record."""
+    m = r["metrics"]
+    hs = m["spacings"]
+    rows = ["| method / basis | " + " | ".join(f"h = {h:g}" for h in hs) + " | rate |",
+            "|---" * (len(hs) + 2) + "|"]
+    for key, rate in m["rate_energy"].items():
+        errs = [m["errors"][f"{key}/h={h:g}"]["energy"] for h in hs]
+        rows.append(f"| {key} | " + " | ".join(f"{e:.2e}" for e in errs) + f" | {rate:.2f} |")
+    q = m["quadrature_study"]
+    study = ["| rule | points per disc | energy error | displacement difference from the "
+             "converged rule |", "|---|---|---|---|"]
+    study += [f"| {k} | {v['points_per_disc']} | {v['energy']:.3e} | {v['quadrature_error']:.2e} |"
+              for k, v in q["rows"].items()]
+    return ["The cantilever of ``cantilever``; relative energy-norm errors. MLPG quadratic: the "
+            "defaults; MLPG linear: Gaussian k = 1, c_I = h, r_I = 4 h; EFG: the settings of "
+            "``cantilever`` (quartic weight, Lagrange multipliers).", "", *rows, "",
+            f"Disc rules at h = {q['spacing']:g} (MLPG quadratic), against {q['reference']}:",
+            "", *study]
 
 
 def main(quick: bool = False, out_dir=None) -> dict:

@@ -186,7 +186,8 @@ class MLPG:
         _number("weight_k", self.weight_k, integer=True)
         _choice("basis", self.basis, BASES)
         _choice("quadrature", self.quadrature, MLPG_QUADRATURES)
-        for name in ("radial", "angular", "cut_angular", "boundary_order", "order", "refined_order", "tip_order"):
+        for name in ("radial", "angular", "cut_angular", "boundary_order", "order",
+                     "refined_order", "tip_order"):
             _number(name, getattr(self, name), integer=True)
         if self.cell_size is not None:
             _number("cell_size", self.cell_size)
