@@ -120,3 +120,20 @@ def test_gaussian_k1_unchanged():
     w, g = gaussian(s, beta)
     assert np.array_equal(w, np.where(s < 1, (e - eb) / (1 - eb), 0.0))
     assert np.array_equal(g, np.where(s < 1, -2.0 * beta**2 * e / (1 - eb), 0.0))
+
+
+@pytest.mark.parametrize("basis", ["linear", "quadratic"])
+def test_gaussian_k2_kernel_matches_numpy_reference(basis):
+    from efgkit import EFG, Domain
+    from efgkit.approx.mls import mls_shape
+    from efgkit.nodes import generate_nodes
+
+    nodes = generate_nodes(Domain.rectangle(0, 0, 1, 1), EFG(spacing=0.1, d_max=2.5, perturb=0.2))
+    x = np.random.default_rng(1).uniform(0.05, 0.95, (300, 2))
+    a = mls_shape(x, nodes, "gaussian", basis, d_max=2.5, alpha=1.25, k=2)
+    b = mls_shape(x, nodes, "gaussian", basis, d_max=2.5, alpha=1.25, k=2, backend="numpy")
+    assert np.abs(a.values - b.values).max() < 1e-12 and np.abs(a.ddx - b.ddx).max() < 1e-11
+    # quadratic reproduction with the k = 2 weight
+    u = nodes.x[:, 0] ** 2 - 2 * nodes.x[:, 0] * nodes.x[:, 1]
+    if basis == "quadratic":
+        assert np.abs(a.phi @ u - (x[:, 0] ** 2 - 2 * x[:, 0] * x[:, 1])).max() < 1e-12

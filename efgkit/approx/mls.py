@@ -216,7 +216,7 @@ def _check_neighbour_counts(x, nb, basis, special):
         )
 
 
-def _numba_path(x, nodes, nb, given, weight, basis, beta, derivatives):
+def _numba_path(x, nodes, nb, given, weight, basis, beta, derivatives, k=1):
     """Plain MLS by the compiled kernels (:mod:`efgkit.approx.kernels`) at every point of ``x (n, 2)``.
 
     ``nb`` holds the neighbours ``(n, k)``, ``given`` the crack rule's padded
@@ -224,14 +224,14 @@ def _numba_path(x, nodes, nb, given, weight, basis, beta, derivatives):
     dphidy]`` of ndarray (n, k); raises SingularMomentMatrix (point numbers
     counted in ``x``).
     """
-    from .kernels import BASIS_IDS, WEIGHT_IDS, mls_linear, mls_padded
+    from .kernels import BASIS_IDS, mls_linear, mls_padded, weight_id
 
     wg = [np.zeros((0, 0))] * 3 if given is None else list(given)
     if basis == "linear":
-        res = mls_linear(x, nodes.x, nodes.radius, nb.idx, nb.mask, WEIGHT_IDS[weight],
+        res = mls_linear(x, nodes.x, nodes.radius, nb.idx, nb.mask, weight_id(weight, k),
                          beta, derivatives, *wg)
     else:
-        res = mls_padded(x, nodes.x, nodes.radius, nb.idx, nb.mask, WEIGHT_IDS[weight],
+        res = mls_padded(x, nodes.x, nodes.radius, nb.idx, nb.mask, weight_id(weight, k),
                          beta, BASIS_IDS[basis], derivatives, *wg)
     bad = np.flatnonzero(~(res[3] >= RCOND_MIN))
     if len(bad):
@@ -263,7 +263,7 @@ def _numpy_path(x, nodes, nb, given, wfun, basis, derivatives, interpolate, chun
 
 
 def _modified_path(x, nodes, nb, given, special, weight, basis, beta, derivatives, wfun, interpolate,
-                   chunk):
+                   chunk, k=1):
     """The numba backend when some supports hold interpolating nodes (seed 002 modified MLS).
 
     The compiled kernel serves the points of ``x (n, 2)`` whose ``special (n,)``
@@ -273,7 +273,7 @@ def _modified_path(x, nodes, nb, given, special, weight, basis, beta, derivative
     plain = np.flatnonzero(~special)
     res = _numba_path(x[plain], nodes, nb.subset(plain),
                       None if given is None else [g[plain] for g in given],
-                      weight, basis, beta, derivatives)
+                      weight, basis, beta, derivatives, k)
     vals = [np.zeros(nb.idx.shape) for _ in range(3)]
     for v, r in zip(vals, res, strict=True):
         v[plain] = r
@@ -306,9 +306,7 @@ def mls_shape(x: np.ndarray, nodes: NodeCloud, weight: str = "quartic", basis: s
         Padded pair weights of a crack rule (:func:`efgkit.approx.crack_rules.crack_weights`),
         each (n_points, k) like ``neighbours``; ``mask`` replaces the neighbours' mask.
     k : int
-        Exponent of the Gaussian weight (seed 002 Eq. 7; 1: seed 003 Eq. 1a). The compiled
-        kernels hold k = 1; for k > 1 the pair weights are formed by
-        :func:`~efgkit.approx.weights.pair_weights` and handed to them as given weights.
+        Exponent of the Gaussian weight (seed 002 Eq. 7; 1: seed 003 Eq. 1a).
     backend : {"numba", "numpy"}
         Compiled kernel (:mod:`efgkit.approx.kernels`) or the plain-numpy
         reference; they agree to 1e-12. Points of the modified MLS always use
@@ -348,15 +346,11 @@ def mls_shape(x: np.ndarray, nodes: NodeCloud, weight: str = "quartic", basis: s
     if backend not in ("numba", "numpy"):
         raise ValueError(f"backend must be 'numba' or 'numpy', got {backend!r}")
     wfun = weight_function(weight, d_max, alpha, k)
-    if weight == "gaussian" and k != 1 and given is None and backend == "numba":
-        w, dw = pair_weights(x, nodes, nb, wfun, derivatives)
-        z = np.zeros_like(w)
-        given = (w, dw[..., 0].copy(), dw[..., 1].copy()) if derivatives else (w, z, z)
     if backend == "numba" and (special is None or not special.any()):
-        vals = _numba_path(x, nodes, nb, given, weight, basis, d_max / alpha, derivatives)
+        vals = _numba_path(x, nodes, nb, given, weight, basis, d_max / alpha, derivatives, k)
     elif backend == "numba" and not special.all():
         vals = _modified_path(x, nodes, nb, given, special, weight, basis, d_max / alpha, derivatives,
-                              wfun, interpolate, chunk)
+                              wfun, interpolate, chunk, k)
     else:
         vals = _numpy_path(x, nodes, nb, given, wfun, basis, derivatives, interpolate, chunk)
     if not derivatives:
