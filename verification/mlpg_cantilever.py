@@ -3,8 +3,9 @@ convergence rates for the linear and quadratic bases, and a quadrature study (en
 and the displacement difference from a converged rule, against the points per sub-domain:
 the piecewise-midpoint rule of seed 002 Eq. 39 against the Gauss rule).
 
-MLPG settings: quadratic basis with the defaults (seed 002 Sect. 4, c_I = 0.5 r_I); linear
-basis with a smooth wide Gaussian (k = 1, c_I = h, r_I = 4 h, as Atluri and Zhu use): with
+MLPG settings: quadratic basis with the defaults (seed 002 Sect. 4, c_I = 0.5 r_I) and with a
+smooth wide Gaussian (k = 1, c_I = h, r_I = 4 h, as Atluri and Zhu use); linear basis with
+the smooth one only: with
 r_I = 2.5 h the gradient of a linear-basis MLS has a ripple of period h that the small
 test discs do not average out, and the error stalls (docs/theory.md, MLPG1).
 """
@@ -20,8 +21,10 @@ from efgkit import EFG, MLPG
 from efgkit.static import solve
 
 NAME = "mlpg_cantilever"
-MLPG_BASES = {"linear": dict(basis="linear", weight_k=1, shape_factor=0.25, d_max=4.0),
-              "quadratic": dict(basis="quadratic")}
+SMOOTH = dict(weight_k=1, shape_factor=0.25, d_max=4.0)  # Gaussian k = 1, c_I = h, r_I = 4 h
+MLPG_BASES = {"linear": dict(basis="linear", **SMOOTH),
+              "quadratic": dict(basis="quadratic"),  # the defaults
+              "quadratic_smooth": dict(basis="quadratic", **SMOOTH)}
 RULES = {"midpoint": ((5, 8), (10, 32), (3, 6), (8, 16), (20, 64)),
          "gauss": ((5, 8), (8, 16), (3, 6), (8, 8), (10, 32))}  # quick mode: the first two
 
@@ -47,7 +50,8 @@ def markdown(r: dict) -> list[str]:
     study += [f"| {k} | {v['points_per_disc']} | {v['energy']:.3e} | {v['quadrature_error']:.2e} |"
               for k, v in q["rows"].items()]
     return ["The cantilever of ``cantilever``; relative energy-norm errors. MLPG quadratic: the "
-            "defaults; MLPG linear: Gaussian k = 1, c_I = h, r_I = 4 h; EFG: the settings of "
+            "defaults; MLPG linear and quadratic_smooth: Gaussian k = 1, c_I = h, r_I = 4 h; "
+            "EFG: the settings of "
             "``cantilever`` (quartic weight, Lagrange multipliers).", "", *rows, "",
             f"Disc rules at h = {q['spacing']:g} (MLPG quadratic), against {q['reference']}:",
             "", *study]
@@ -58,8 +62,10 @@ def main(quick: bool = False, out_dir=None) -> dict:
     spacings = (3.0, 2.0, 1.5) if quick else (2.0, 1.0, 0.5, 0.25)
     sc = scene()
     results, rates = {}, {}
-    for basis in ("linear", "quadratic"):
+    for basis in MLPG_BASES:
         for method in ("mlpg", "efg"):
+            if method == "efg" and basis not in EFG_BASES:
+                continue
             errs = []
             for h in spacings:
                 m = (MLPG(spacing=h, **MLPG_BASES[basis]) if method == "mlpg" else
@@ -96,7 +102,8 @@ def main(quick: bool = False, out_dir=None) -> dict:
         rep.check("rate_energy mlpg/quadratic (coarse)", rates["mlpg/quadratic"], ">=", 1.6)
         rep.check("rate_energy mlpg/linear (coarse)", rates["mlpg/linear"], ">=", 0.55)
     else:  # the issue's targets
-        rep.check("rate_energy mlpg/quadratic", rates["mlpg/quadratic"], ">=", 1.9)
+        rep.check("rate_energy mlpg/quadratic_smooth", rates["mlpg/quadratic_smooth"], ">=", 1.9)
+        rep.check("rate_energy mlpg/quadratic (defaults)", rates["mlpg/quadratic"], ">=", 1.9)
         rep.check("rate_energy mlpg/linear", rates["mlpg/linear"], ">=", 0.95)
     # displacement difference from the converged rule (quick, h = 3): Gauss 8 x 16 (128 points
     # per disc) 3.1e-5, the midpoint rule 10 x 32 (320 points) 2.8e-4; at 5 x 8 8.9e-4, 1.3e-3
