@@ -125,3 +125,24 @@ def test_scene_file_errors():
         study_method({"method": "mlpg", "mlpg": {"spacing": 0.1, "radiall": 3}}, None)
     with pytest.raises(ValueError, match=r"needs the discretisation table \[mlpg\]"):
         study_method({"method": "mlpg"}, None)
+
+
+def test_seed_gaussian_is_near_singular_at_the_boundary():
+    # docs/robustness.md: seed 002's c_I = 0.365 r_I with k = 2 and the quadratic basis
+    from efgkit.approx.mls import SingularMomentMatrix
+
+    with pytest.raises(SingularMomentMatrix, match="ill-conditioned"):
+        solve(_tension(), MLPG(spacing=0.25, shape_factor=0.365))
+
+
+def test_krylov_refuses_singular_and_empty_rows():
+    from scipy.sparse import csr_array
+
+    from efgkit.system.linalg import SolverError
+
+    zero_row = csr_array(np.array([[1.0, 0.0], [0.0, 0.0]]))
+    with pytest.raises(SolverError, match="row 1 of the system matrix is zero"):
+        solve_unsymmetric(LinearSystem(zero_row, np.ones(2), False, 2), "gmres")
+    singular = csr_array(np.array([[1.0, 1.0], [1.0, 1.0]]))  # b not in the range
+    with pytest.raises(SolverError, match="singular|residual"):
+        solve_unsymmetric(LinearSystem(singular, np.array([1.0, 0.0]), False, 2), "bicgstab")
