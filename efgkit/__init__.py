@@ -19,7 +19,7 @@ except PackageNotFoundError:  # pragma: no cover - running from a source tree
     __version__ = "0.0.0"
 
 __all__ = [
-    "Crack", "Domain", "EFG", "Elastic", "FEM", "FEMSolution", "Field", "Loop", "MeshlessSolution", "MLPG",
+    "Crack", "Domain", "EFG", "Elastic", "FEM", "FEMSolution", "Field", "Loop", "MLPG", "MeshlessSolution",
     "Rosette", "Scene", "Solution", "Support", "TipResult", "Traction", "Zone", "__version__",
     "discretize", "load_scene", "load_study", "solve", "solve_fem",
 ]
