@@ -26,7 +26,7 @@ MAX_ITERATIONS = 2000
 
 
 def solve_unsymmetric(system: LinearSystem, solver: str = "auto", rtol: float = 1e-8,
-                      drop_tol: float = 1e-5, fill_factor: float = 10.0) -> tuple[np.ndarray, dict]:
+                      drop_tol: float = 1e-4, fill_factor: float = 10.0) -> tuple[np.ndarray, dict]:
     """Solve the unsymmetric ``system``; returns (z, info).
 
     Parameters
@@ -34,7 +34,12 @@ def solve_unsymmetric(system: LinearSystem, solver: str = "auto", rtol: float = 
     solver : {"auto", "direct", "gmres", "bicgstab"}
         SuperLU (column ordering COLAMD, partial pivoting), or a Krylov method
         (restarted GMRES(50), BiCGSTAB) preconditioned by ILU (``spilu`` with
-        ``drop_tol``, ``fill_factor``), after a Jacobi-like row scaling.
+        ``drop_tol``, ``fill_factor``, the minimum-degree ordering of A + A^T and diagonal
+        pivots), after a row scaling to unit maxima. Measured on MLPG1 plates (square,
+        quadratic basis): 7.4k unknowns 12 GMRES iterations, 20k unknowns 15; with the
+        default COLAMD ordering and partial pivoting, or ``drop_tol=1e-3, fill_factor=5``,
+        GMRES stalled at 20k unknowns (residual 4e2 to 6e2 after 2000 iterations).
+        ``"auto"`` falls back to SuperLU when the Krylov solve fails (``info["fallback"]``).
     rtol : float
         Required relative residual ||A z - b|| / ||b||.
 
@@ -76,7 +81,8 @@ def solve_unsymmetric(system: LinearSystem, solver: str = "auto", rtol: float = 
     S = csr_array(diags_array(1.0 / d) @ A)
     bs = b / d
     try:
-        ilu = spilu(csc_array(S), drop_tol=drop_tol, fill_factor=fill_factor)
+        ilu = spilu(csc_array(S), drop_tol=drop_tol, fill_factor=fill_factor,
+                    permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0)
     except RuntimeError as err:
         raise SolverError(f"the incomplete LU factorisation failed ({err}): the system is "
                           "singular; check the essential boundary conditions") from None
@@ -100,6 +106,9 @@ def solve_unsymmetric(system: LinearSystem, solver: str = "auto", rtol: float = 
         raise SolverError(f"{kind} produced NaN or inf: the system is singular or overflowed")
     res = float(np.linalg.norm(A @ z - b)) / bnorm
     info["residual"] = res
+    if not res <= rtol and solver == "auto":
+        z, direct = linalg_solve(LinearSystem(A, b, False, system.n_coeffs), "direct", rtol=rtol)
+        return z, {**info, **direct, "fallback": f"{kind} reached {res:.1e} in {count[0]} iterations"}
     if not res <= rtol:
         raise SolverError(
             f"relative residual {res:.2e} exceeds {rtol:.0e} after {count[0]} {kind} iterations "
