@@ -38,7 +38,10 @@ def solve_unsymmetric(system: LinearSystem, solver: str = "auto", rtol: float = 
         pivots), after a row scaling to unit maxima. Measured on MLPG1 plates (square,
         quadratic basis): 7.4k unknowns 12 GMRES iterations, 20k unknowns 15; with the
         default COLAMD ordering and partial pivoting, or ``drop_tol=1e-3, fill_factor=5``,
-        GMRES stalled at 20k unknowns (residual 4e2 to 6e2 after 2000 iterations).
+        GMRES stalled at 20k unknowns (residual 4e2 to 6e2 after 2000 iterations). At 100k
+        nodes (201k unknowns) this ILU does not suffice either: residual 1.1 after 1952
+        GMRES iterations (``benchmarks/mlpg_solve.py``); a scalable preconditioner for
+        MLPG1 is open.
         ``"auto"`` falls back to SuperLU when the Krylov solve fails (``info["fallback"]``).
     rtol : float
         Required relative residual ||A z - b|| / ||b||.
