@@ -9,6 +9,7 @@ from .growth import Growth, GrowthStep, grow
 from .meshless_solution import MeshlessSolution
 from .methods import EFG, Rosette, Zone
 from .methods.discretize import discretize
+from .methods.mlpg import MLPG
 from .problem import Crack, Domain, Elastic, Field, Loop, PointSupport, Pressure, Scene, Support, Traction
 from .problem.history import Heaviside, ImpactPulse, Ramp, Stepping, Tabulated
 from .scenefile import load_scene, load_study
@@ -22,8 +23,8 @@ except PackageNotFoundError:  # pragma: no cover - running from a source tree
 
 __all__ = [
     "Crack", "Domain", "DynamicSolution", "EFG", "Elastic", "FEM", "FEMSolution", "Field", "Growth",
-    "GrowthStep", "Heaviside", "ImpactPulse", "Loop", "MeshlessSolution", "PointSupport", "Pressure",
-    "Ramp", "Rosette", "Scene", "Solution", "Stepping", "Support", "Tabulated", "TipResult", "Traction",
-    "Zone", "__version__", "discretize", "grow", "integrate", "load_scene", "load_study", "solve",
-    "solve_fem",
+    "GrowthStep", "Heaviside", "ImpactPulse", "Loop", "MLPG", "MeshlessSolution", "PointSupport",
+    "Pressure", "Ramp", "Rosette", "Scene", "Solution", "Stepping", "Support", "Tabulated", "TipResult",
+    "Traction", "Zone", "__version__", "discretize", "grow", "integrate", "load_scene", "load_study",
+    "solve", "solve_fem",
 ]

@@ -55,7 +55,7 @@ class MeshlessSolution(Solution):
 
     @property
     def kind(self) -> str:
-        return "efg"
+        return getattr(self.method, "kind", "efg")
 
     @property
     def represents_tip_singularity(self) -> bool:
@@ -75,12 +75,13 @@ class MeshlessSolution(Solution):
 
     def _fields(self, x, derivatives):
         if x is None:
-            return self.disc.shape
+            return self.disc.post_shape
         x = self.scene.domain.field_points(x)
         return self.disc.shape_at(x, derivatives=derivatives)
 
     def displacement(self, x=None) -> np.ndarray:
-        """Displacement at points ``x (n, 2)`` (default: the quadrature points), shape (n, 2)."""
+        """Displacement at points ``x (n, 2)`` (default: the area quadrature points of
+        post-processing, :attr:`Discretization.post_points`), shape (n, 2)."""
         return self._fields(x, derivatives=False).displacement(self.coeffs)
 
     def gradient(self, x=None) -> np.ndarray:
@@ -111,7 +112,7 @@ class MeshlessSolution(Solution):
         the spacing at the tip."""
         from .fracture.sif import face_loads, tip_radii, tip_result
 
-        x, w = self.disc.points.x, self.disc.points.w
+        x, w = self.disc.post_points.x, self.disc.post_points.w
         grad = self.gradient()
         stress = strain_from_gradient(grad) @ self.scene.material.D.T  # no second pass
         enr = self.disc.approx.enrichment
@@ -151,7 +152,7 @@ class MeshlessSolution(Solution):
     def strain_energy(self) -> float:
         """U = 1/2 int eps : sigma dOmega over the domain quadrature."""
         eps = self.strain()
-        return 0.5 * float(np.sum(self.disc.points.w * np.einsum("ni,ij,nj->n", eps,
+        return 0.5 * float(np.sum(self.disc.post_points.w * np.einsum("ni,ij,nj->n", eps,
                                                                   self.scene.material.D, eps)))
 
     def errors(self, exact=None) -> dict:
@@ -166,7 +167,7 @@ class MeshlessSolution(Solution):
         """
         from .problem.exact.fields import field_errors
 
-        return field_errors(exact, self.scene, self.disc.points.x, self.disc.points.w,
+        return field_errors(exact, self.scene, self.disc.post_points.x, self.disc.post_points.w,
                             self.displacement(), self.strain())
 
     def reaction(self, edge, about=None) -> np.ndarray:

@@ -23,6 +23,7 @@ from .methods.boundary import (
 )
 from .methods.discretize import Discretization, discretize
 from .methods.efg import EFG
+from .methods.mlpg import MLPG
 from .problem.scene import Scene
 from .system.assemble import stiffness
 from .system.auxiliary import AuxiliarySpace
@@ -32,7 +33,7 @@ from .system.linalg import solve as linear_solve
 from .timing import Stopwatch
 
 __all__ = ["DEFAULT_PENALTY", "DEFAULT_STABILISATION", "LOCKING_PENALTY", "auxiliary_space",
-           "constrained_system", "solve"]
+           "constrained_system", "solve", "solve_mlpg"]
 
 # beta h / E of the penalty method. Its consistency error falls like E / (beta h), but
 # beta -> infinity is a Lagrange method with one multiplier per boundary Gauss point,
@@ -85,9 +86,9 @@ def constrained_system(disc: Discretization, K, f: np.ndarray, method: EFG | Non
     return modified_variational(K, f, bc, mat.D, beta, disc.nodes.x)
 
 
-def solve(scene: Scene, method: EFG, disc: Discretization | None = None, K=None,
+def solve(scene: Scene, method: EFG | MLPG, disc: Discretization | None = None, K=None,
           f=None) -> MeshlessSolution:
-    """Solve a static scene with the EFG method.
+    """Solve a static scene with the EFG method (or MLPG: :func:`solve_mlpg`).
 
     Parameters
     ----------
@@ -128,6 +129,8 @@ def solve(scene: Scene, method: EFG, disc: Discretization | None = None, K=None,
     >>> round(float(sol.displacement([[2.0, 0.5]])[0, 0]), 6)   # sigma L / E = 0.002
     0.002
     """
+    if isinstance(method, MLPG):
+        return solve_mlpg(scene, method, disc)
     t_all = time.perf_counter()
     sw = Stopwatch()  # laps: stages that add up to the wall time, compilation apart
     method = method.for_scene(scene)  # the automatic choices (tip zones, enrichment, bc)
@@ -159,3 +162,79 @@ def solve(scene: Scene, method: EFG, disc: Discretization | None = None, K=None,
     timings = sw.timings | {"total": time.perf_counter() - t_all}
     return MeshlessSolution(disc, coefficients, info, timings,
                             resolve=lambda coarse: solve(scene, coarse), support_forces=forces)
+
+
+def solve_mlpg(scene: Scene, method: MLPG, disc: Discretization | None = None) -> MeshlessSolution:
+    """Solve a static scene with MLPG1 (seed 002 Eqs. 20-24, :mod:`efgkit.methods.local`).
+
+    bc="penalty": the penalty term is part of the local weak forms; "modified_mls": the
+    coefficients of the essential nodes are the prescribed values (row cross-out,
+    :func:`~efgkit.system.constraints.eliminate`); "collocation": the equations of the
+    essential nodes are replaced by u^h_c(x_I) = ubar_c(x_I)
+    (:func:`~efgkit.system.collocation.collocation`). The unsymmetric system goes to
+    :func:`~efgkit.system.krylov.solve_unsymmetric` (SuperLU, GMRES or BiCGSTAB).
+
+    Examples
+    --------
+    >>> from efgkit import Domain, Elastic, Scene, Support, Traction
+    >>> scene = Scene(Domain.rectangle(0, 0, 2, 1), Elastic(1000.0, 0.25, "stress"),
+    ...               supports=(Support("left", ux=0.0), Support("bottom", uy=0.0)),
+    ...               tractions=(Traction("right", (1.0, 0.0)),))
+    >>> sol = solve(scene, MLPG(spacing=0.25))
+    >>> round(float(sol.displacement([[2.0, 0.5]])[0, 0]), 6)   # sigma L / E = 0.002
+    0.002
+    """
+    from dataclasses import replace
+
+    from .methods.local import DEFAULT_MLPG_PENALTY, discretize_local, local_system
+    from .system.constraints import LinearSystem, check_rigid_modes
+    from .system.krylov import solve_unsymmetric
+
+    t_all = time.perf_counter()
+    sw = Stopwatch()  # laps: stages that add up to the wall time, compilation apart
+    method = method.for_scene(scene)
+    sw.lap("setup")
+    if disc is None:  # the discretisation's stages are this call's (a given one's are not)
+        disc = discretize_local(scene, method)
+        sw = Stopwatch(disc.timings | {k: v + disc.timings.get(k, 0.0) for k, v in sw.timings.items()})
+    mat, m = scene.material, method
+    alpha = (m.penalty or DEFAULT_MLPG_PENALTY) * mat.E / m.spacing if m.bc == "penalty" else None
+    K, f = local_system(disc, alpha)
+    sw.lap("stiffness")
+    if m.bc == "penalty":
+        check_rigid_modes(_fixed_operator(disc.local), disc.nodes.x)
+        system = LinearSystem(K, f, spd=False, n_coeffs=K.shape[0])
+    else:
+        dofs, vals = eliminated_dofs(disc)
+        if m.bc == "modified_mls":
+            system = replace(eliminate(K, f, dofs, vals, disc.nodes.x), spd=False)
+        else:  # collocation checks the rows for rigid-body modes itself
+            system = collocation(K, f, _nodal_rows(disc, dofs), vals, dofs, disc.nodes.x)
+    sw.lap("constraints")
+    z, info = solve_unsymmetric(system, m.solver)
+    coefficients = system.coefficients(z)
+    sw.lap("solve")
+    timings = sw.timings | {"total": time.perf_counter() - t_all}
+    return MeshlessSolution(disc, coefficients, info, timings,
+                            resolve=lambda coarse: solve(scene, coarse))
+
+
+def _fixed_operator(loc) -> csr_array:
+    """Rows (boundary point, fixed component) of u^h at the sub-domains' supported pieces."""
+    Ux, Uy = loc.trial.u_operators()
+    q, c = np.nonzero(loc.fixed)
+    from scipy.sparse import vstack
+
+    n = loc.fixed.shape[0]
+    return csr_array(vstack([Ux, Uy], format="csr")[c * n + q])
+
+
+def _nodal_rows(disc: Discretization, dofs: np.ndarray) -> csr_array:
+    """u^h_c(x_I) for the equations ``dofs = 2 I + c``: rows (len(dofs), n_dofs)."""
+    from scipy.sparse import vstack
+
+    nodes = dofs // 2
+    x = disc.nodes.face_positions(disc.approx.lines, 1e-3)[nodes]
+    Ux, Uy = disc.shape_at(x, derivatives=False).u_operators()
+    k = len(nodes)
+    return csr_array(vstack([Ux, Uy], format="csr")[(dofs % 2) * k + np.arange(k)])

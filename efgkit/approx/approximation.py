@@ -57,6 +57,8 @@ class Approximation:
     holes : Holes, optional
         The domain's holes, when ``hole_rule`` is not "see_through".
     hole_rule : {"see_through", "visibility", "diffraction"}
+    k : int
+        Exponent of the Gaussian weight (seed 002 Eq. 7; 1 for seed 003 Eq. 1a).
     """
 
     nodes: NodeCloud
@@ -72,6 +74,7 @@ class Approximation:
     enrichment: Enrichment | None = None
     holes: Holes | None = None
     hole_rule: str = "see_through"
+    k: int = 1
 
     @property
     def n_dofs(self) -> int:
@@ -80,7 +83,7 @@ class Approximation:
     def _mls(self, x, nb, derivatives, weights=None) -> Shape:
         return mls_shape(x, self.nodes, self.weight, self.basis, d_max=self.d_max, alpha=self.alpha,
                          derivatives=derivatives, neighbours=nb, interpolate=self.interpolate,
-                         weights=weights)
+                         weights=weights, k=self.k)
 
     def cracked_rows(self, x: np.ndarray, nb: Neighbours) -> np.ndarray:
         """Points whose neighbours' supports reach a crack or a ruled hole (the only ones a
@@ -101,7 +104,7 @@ class Approximation:
     def sight_weights(self, x: np.ndarray, nb: Neighbours):
         """Pair weights at ``x (n, 2)`` under the crack and hole rules: (mask, w, dwx, dwy),
         padded (n, k) like ``nb`` (for points near cracks or holes)."""
-        wfun = weight_function(self.weight, self.d_max, self.alpha)
+        wfun = weight_function(self.weight, self.d_max, self.alpha, self.k)
         rows, cols, I, xq, xn, dm = pair_arrays(x, self.nodes, nb)
         if self.lines is not None:
             cut, d, dd = crack_distances(xq, xn, dm, I, self.nodes, self.lines, self.rule)
@@ -116,7 +119,7 @@ class Approximation:
 
     def weights(self, x: np.ndarray, nb: Neighbours, derivatives: bool = True):
         """Pair weights at ``x (n, 2)`` under the rules: mask, w (n, k), dw (n, k, 2)."""
-        wfun = weight_function(self.weight, self.d_max, self.alpha)
+        wfun = weight_function(self.weight, self.d_max, self.alpha, self.k)
         mask = nb.mask.copy()
         w, dw = pair_weights(x, self.nodes, nb, wfun, derivatives)
         rows = self.cracked_rows(x, nb)

@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-__all__ = ["mls_padded", "mls_linear", "WEIGHT_IDS", "BASIS_IDS"]
+__all__ = ["mls_padded", "mls_linear", "WEIGHT_IDS", "BASIS_IDS", "weight_id"]
 
 WEIGHT_IDS = {"quartic": 0, "cubic": 1, "gaussian": 2}
 BASIS_IDS = {"linear": 0, "quadratic": 1}
@@ -20,7 +20,8 @@ BASIS_IDS = {"linear": 0, "quadratic": 1}
 
 @njit(cache=True, inline="always")
 def _weight(wid, s, beta):
-    """(w, w'/s) of seed 003 Eq. (1a-b) and the cubic spline; 0 outside s < 1."""
+    """(w, w'/s) of seed 003 Eq. (1a-b), the cubic spline and the Gaussian of exponent k
+    (id 10 + k, seed 002 Eq. 7); 0 outside s < 1."""
     if s >= 1.0:
         return 0.0, 0.0
     if wid == 0:
@@ -29,9 +30,20 @@ def _weight(wid, s, beta):
         if s <= 0.5:
             return 2.0 / 3.0 - 4.0 * s * s + 4.0 * s**3, -8.0 + 12.0 * s
         return 4.0 / 3.0 * (1.0 - s) ** 3, -4.0 * (1.0 - s) ** 2 / s
+    if wid >= 10:  # Gaussian of exponent k = wid - 10 (seed 002 Eq. 7)
+        k = wid - 10
+        b2k = beta ** (2 * k)
+        e = np.exp(-b2k * s ** (2 * k))
+        eb = np.exp(-b2k)
+        return (e - eb) / (1.0 - eb), -2.0 * k * b2k * s ** (2 * k - 2) * e / (1.0 - eb)
     e = np.exp(-((beta * s) ** 2))
     eb = np.exp(-(beta**2))
     return (e - eb) / (1.0 - eb), -2.0 * beta**2 * e / (1.0 - eb)
+
+
+def weight_id(name: str, k: int = 1) -> int:
+    """The kernels' id of weight ``name`` (the Gaussian of exponent k > 1: 10 + k)."""
+    return 10 + k if name == "gaussian" and k != 1 else WEIGHT_IDS[name]
 
 
 @njit(cache=True, inline="always")

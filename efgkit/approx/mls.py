@@ -217,7 +217,7 @@ def _check_neighbour_counts(x, nb, basis, special):
         )
 
 
-def _numba_path(x, nodes, nb, given, weight, basis, beta, derivatives):
+def _numba_path(x, nodes, nb, given, weight, basis, beta, derivatives, k=1):
     """Plain MLS by the compiled kernels (:mod:`efgkit.approx.kernels`) at every point of ``x (n, 2)``.
 
     ``nb`` holds the neighbours ``(n, k)``, ``given`` the crack rule's padded
@@ -225,14 +225,14 @@ def _numba_path(x, nodes, nb, given, weight, basis, beta, derivatives):
     dphidy]`` of ndarray (n, k); raises SingularMomentMatrix (point numbers
     counted in ``x``).
     """
-    from .kernels import BASIS_IDS, WEIGHT_IDS, mls_linear, mls_padded
+    from .kernels import BASIS_IDS, mls_linear, mls_padded, weight_id
 
     wg = [np.zeros((0, 0))] * 3 if given is None else list(given)
     if basis == "linear":
-        res = mls_linear(x, nodes.x, nodes.radius, nb.idx, nb.mask, WEIGHT_IDS[weight],
+        res = mls_linear(x, nodes.x, nodes.radius, nb.idx, nb.mask, weight_id(weight, k),
                          beta, derivatives, *wg)
     else:
-        res = mls_padded(x, nodes.x, nodes.radius, nb.idx, nb.mask, WEIGHT_IDS[weight],
+        res = mls_padded(x, nodes.x, nodes.radius, nb.idx, nb.mask, weight_id(weight, k),
                          beta, BASIS_IDS[basis], derivatives, *wg)
     bad = np.flatnonzero(~(res[3] >= RCOND_MIN))
     if len(bad):
@@ -264,7 +264,7 @@ def _numpy_path(x, nodes, nb, given, wfun, basis, derivatives, interpolate, chun
 
 
 def _modified_path(x, nodes, nb, given, special, weight, basis, beta, derivatives, wfun, interpolate,
-                   chunk):
+                   chunk, k=1):
     """The numba backend when some supports hold interpolating nodes (seed 002 modified MLS).
 
     The compiled kernel serves the points of ``x (n, 2)`` whose ``special (n,)``
@@ -274,7 +274,7 @@ def _modified_path(x, nodes, nb, given, special, weight, basis, beta, derivative
     plain = np.flatnonzero(~special)
     res = _numba_path(x[plain], nodes, nb.subset(plain),
                       None if given is None else [g[plain] for g in given],
-                      weight, basis, beta, derivatives)
+                      weight, basis, beta, derivatives, k)
     vals = [np.zeros(nb.idx.shape) for _ in range(3)]
     for v, r in zip(vals, res, strict=True):
         v[plain] = r
@@ -285,7 +285,8 @@ def _modified_path(x, nodes, nb, given, special, weight, basis, beta, derivative
 def mls_shape(x: np.ndarray, nodes: NodeCloud, weight: str = "quartic", basis: str = "linear",
               *, d_max: float = 2.0, alpha: float = 0.5, derivatives: bool = True,
               neighbours: Neighbours | None = None, interpolate: np.ndarray | None = None,
-              weights: tuple | None = None, backend: str = "auto", chunk: int = 32768) -> Shape:
+              weights: tuple | None = None, backend: str = "auto", chunk: int = 32768,
+              k: int = 1) -> Shape:
     """MLS shape functions of ``nodes`` at points ``x (n_points, 2)``.
 
     Parameters
@@ -305,6 +306,8 @@ def mls_shape(x: np.ndarray, nodes: NodeCloud, weight: str = "quartic", basis: s
     weights : (mask, w, dwx, dwy), optional
         Padded pair weights of a crack rule (:func:`efgkit.approx.crack_rules.crack_weights`),
         each (n_points, k) like ``neighbours``; ``mask`` replaces the neighbours' mask.
+    k : int
+        Exponent of the Gaussian weight (seed 002 Eq. 7; 1: seed 003 Eq. 1a).
     backend : {"auto", "numba", "numpy"}
         Compiled kernel (:mod:`efgkit.approx.kernels`) or the plain-numpy
         reference; they agree to 1e-12. Points of the modified MLS always use
@@ -342,12 +345,12 @@ def mls_shape(x: np.ndarray, nodes: NodeCloud, weight: str = "quartic", basis: s
     special = None if interpolate is None else (interpolate[nb.idx] & nb.mask).any(axis=1)
     _check_neighbour_counts(x, nb, basis, special)
     backend = resolve_backend(backend, len(x))
-    wfun = weight_function(weight, d_max, alpha)
+    wfun = weight_function(weight, d_max, alpha, k)
     if backend == "numba" and (special is None or not special.any()):
-        vals = _numba_path(x, nodes, nb, given, weight, basis, d_max / alpha, derivatives)
+        vals = _numba_path(x, nodes, nb, given, weight, basis, d_max / alpha, derivatives, k)
     elif backend == "numba" and not special.all():
         vals = _modified_path(x, nodes, nb, given, special, weight, basis, d_max / alpha, derivatives,
-                              wfun, interpolate, chunk)
+                              wfun, interpolate, chunk, k)
     else:
         vals = _numpy_path(x, nodes, nb, given, wfun, basis, derivatives, interpolate, chunk)
     if not derivatives:

@@ -39,28 +39,54 @@ def cubic(s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.where(inside, w, 0.0), np.where(inside, g, 0.0)
 
 
-def gaussian(s: np.ndarray, beta: float) -> tuple[np.ndarray, np.ndarray]:
-    """Truncated Gaussian, seed 003 Eq. (1a) with beta = d_max / alpha = d_m / c.
+def gaussian(s: np.ndarray, beta: float, k: int = 1) -> tuple[np.ndarray, np.ndarray]:
+    """Truncated Gaussian of exponent k: seed 003 Eq. (1a) (k = 1) and seed 002 Eq. (7).
 
-    w = (exp(-(beta s)^2) - exp(-beta^2)) / (1 - exp(-beta^2)) for s <= 1.
+    With beta = d_m / c (EFG: d_max / alpha; MLPG: r_I / c_I = 1 / 0.365),
+
+        w = (exp(-(beta s)^(2k)) - exp(-beta^(2k))) / (1 - exp(-beta^(2k)))   for s <= 1,
+
+    so w(0) = 1 and w(1) = 0 with w'(1) = -2k beta^(2k) e^(-beta^(2k)) / (1 - e^(-beta^(2k))),
+    tiny (8e-23 for the seed 002 choice beta = 1 / 0.365, k = 2; 4e-6 for EFG's default
+    beta = 4, k = 1). Seed 002 Eq. (7) prints the
+    denominator exponent as 2: it must be 2k for w(0) = 1 (the normalisation of Eq. 7 is
+    1 - w_unnormalised(r_I)); we use 2k. ``g = w'(s) / s = -2k beta^(2k) s^(2k-2) e / (1 - eb)``.
+    k = 1 evaluates exactly the expressions of the k = 1 rule (bit-identical to before).
+
+    Examples
+    --------
+    >>> w, g = gaussian(np.array([0.0, 1.0]), 1 / 0.365, k=2)
+    >>> w.tolist()
+    [1.0, 0.0]
     """
     inside = s < 1.0
-    e = np.exp(-((beta * np.where(inside, s, 1.0)) ** 2))
-    eb = np.exp(-(beta**2))
+    sc = np.where(inside, s, 1.0)
+    if k == 1:
+        e = np.exp(-((beta * sc) ** 2))
+        eb = np.exp(-(beta**2))
+        w = np.where(inside, (e - eb) / (1.0 - eb), 0.0)
+        g = np.where(inside, -2.0 * beta**2 * e / (1.0 - eb), 0.0)
+        return w, g
+    b2k = beta ** (2 * k)
+    e = np.exp(-b2k * sc ** (2 * k))
+    eb = np.exp(-b2k)
     w = np.where(inside, (e - eb) / (1.0 - eb), 0.0)
-    g = np.where(inside, -2.0 * beta**2 * e / (1.0 - eb), 0.0)
+    g = np.where(inside, -2.0 * k * b2k * sc ** (2 * k - 2) * e / (1.0 - eb), 0.0)
     return w, g
 
 
-def weight_function(name: str, d_max: float = 2.0, alpha: float = 0.5):
-    """The weight ``s -> (w, w'/s)`` called ``name`` ("quartic", "cubic", "gaussian")."""
+def weight_function(name: str, d_max: float = 2.0, alpha: float = 0.5, k: int = 1):
+    """The weight ``s -> (w, w'/s)`` called ``name`` ("quartic", "cubic", "gaussian");
+    the Gaussian has beta = d_max / alpha and exponent ``k`` (:func:`gaussian`)."""
     if name == "quartic":
         return quartic
     if name == "cubic":
         return cubic
     if name == "gaussian":
         beta = d_max / alpha
-        return lambda s: gaussian(s, beta)
+        if k == 1:
+            return lambda s: gaussian(s, beta)
+        return lambda s: gaussian(s, beta, k)
     raise ValueError(f"weight must be one of ('quartic', 'gaussian', 'cubic'), got {name!r}")
 
 

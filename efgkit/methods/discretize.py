@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 
 import numpy as np
 
@@ -29,7 +30,8 @@ from ..timing import Stopwatch
 from .efg import EFG
 from .size import size_estimate
 
-__all__ = ["Discretization", "discretize", "support_edges", "crack_mouths"]
+__all__ = ["Discretization", "discretize", "support_edges", "crack_mouths", "essential_nodes",
+           "interpolating_supports", "shadow_rays"]
 
 
 
@@ -50,6 +52,14 @@ class Discretization:
         enrichment): evaluates shape functions at any points.
     timings : dict
         Seconds per stage.
+    test : Shape, optional
+        Test functions at ``points`` (MLPG: the disc spline of each point's owner node);
+        None: Bubnov-Galerkin (test = trial).
+    field_points : Points, optional
+        An area quadrature of the body for energies, errors and J integrals when
+        ``points`` is none (MLPG's discs overlap); None: ``points`` is one.
+    local : object, optional
+        MLPG: the boundary pieces of the sub-domains (:class:`efgkit.methods.local.LocalBoundary`).
     """
 
     scene: Scene
@@ -59,6 +69,19 @@ class Discretization:
     shape: Shape
     approx: Approximation
     timings: dict = field(default_factory=dict)
+    test: Shape | None = None
+    field_points: Points | None = None
+    local: object = None
+
+    @property
+    def post_points(self) -> Points:
+        """The area quadrature of post-processing (energies, errors, J integrals)."""
+        return self.points if self.field_points is None else self.field_points
+
+    @cached_property
+    def post_shape(self) -> Shape:
+        """Shape functions with derivatives at :attr:`post_points` (computed once)."""
+        return self.shape if self.field_points is None else self.shape_at(self.field_points.x)
 
     @property
     def interpolate(self) -> np.ndarray | None:
@@ -164,7 +187,7 @@ def discretize(scene: Scene, method: EFG) -> Discretization:
             "~1e-1, docs/theory.md). Prefer 'lagrange' or 'variational' for EFG.",
             UserWarning, stacklevel=2)
         interpolate = essential_nodes(scene, nodes, method.spacing)
-        nodes = _interpolating_supports(nodes, interpolate)
+        nodes = interpolating_supports(nodes, interpolate)
     sw.lap("nodes")
     if method.quadrature == "cells":
         points = cell_points(scene.domain, method.cell_size or method.spacing, method.order,
@@ -250,7 +273,7 @@ def approximation(scene: Scene, method: EFG, nodes: NodeCloud,
         rule = CrackRule("diffraction", method.rule_power, method.kappa, method.spacing)
     return Approximation(nodes, BoxGrid.build(nodes), method.weight, method.basis, method.d_max,
                          method.alpha, method.spacing, interpolate, lines, rule, enrichment,
-                         holes, method.hole_rule)
+                         holes, method.hole_rule, getattr(method, "weight_k", 1))
 
 
 def _check_global_fields(scene: Scene) -> None:
@@ -293,7 +316,7 @@ def _warn_close_to_crack(nodes: NodeCloud, lines: CrackLines, h: float, enrichme
             "crack rule.", UserWarning, stacklevel=3)
 
 
-def _interpolating_supports(nodes: NodeCloud, interp: np.ndarray) -> NodeCloud:
+def interpolating_supports(nodes: NodeCloud, interp: np.ndarray) -> NodeCloud:
     """Shrink supports of interpolating nodes to their nearest interpolating neighbour.
 
     Seed 002 (text after Eq. 18) needs no more interpolation nodes in a support

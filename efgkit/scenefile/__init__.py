@@ -36,6 +36,8 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..methods.efg import EFG
+from ..methods.mlpg import MLPG
+from ..methods.mlpg_file import study_method
 from ..problem.scene import Scene
 from .schema import SCHEMA, efg_from_dict, key_path, scene_from_dict
 from .writer import efg_to_dict, scene_to_dict
@@ -74,12 +76,9 @@ def load_scene(path) -> Scene:
     return scene
 
 
-def load_study(path) -> tuple[Scene, EFG]:
-    """Read a scene file with its discretisation: ``(Scene, EFG)`` (``[efg]`` required)."""
+def load_study(path) -> tuple[Scene, EFG | MLPG]:
+    """Read a scene file with its discretisation: ``(Scene, EFG)`` (``[efg]`` required), or
+    ``(Scene, MLPG)`` with ``method = "mlpg"`` (:mod:`efgkit.methods.mlpg_file`)."""
     path, d = _read(path)
     with key_path(str(path)):
-        scene = scene_from_dict(d)
-        if "efg" not in d:
-            raise ValueError("missing required key 'efg' in scene file (top level): "
-                             "a study needs the discretisation table [efg]")
-        return scene, efg_from_dict(d["efg"])
+        return scene_from_dict(d), study_method(d, efg_from_dict)

@@ -216,9 +216,12 @@ def stiffness(trial: Shape, w: np.ndarray, D: np.ndarray, test: Shape | None = N
     w = np.asarray(w, dtype=float)
     backend = resolve_backend(backend, trial.shape[0])
     if trial.extra is not None or test.extra is not None:
-        if test is not trial:
-            raise ValueError("enrichment unknowns are supported for Bubnov-Galerkin (test = trial) only")
-        return _with_enrichment(trial, w, np.asarray(D, dtype=float), backend)
+        if test is trial:
+            return _with_enrichment(trial, w, np.asarray(D, dtype=float), backend)
+        if test.extra is not None:
+            raise ValueError("test functions with enrichment unknowns are supported for "
+                             "Bubnov-Galerkin (test = trial) only")
+        return _petrov_enriched(trial, test, w, np.asarray(D, dtype=float), backend)
     if w.shape != (trial.shape[0],) or test.shape[0] != trial.shape[0]:
         raise ValueError(
             f"weights {w.shape} and operators {test.shape}, {trial.shape} must share n_points"
@@ -283,6 +286,27 @@ def _with_enrichment(shape: Shape, w, D, backend) -> csr_array:
     K_en = K_ne.T if np.array_equal(D, D.T) else nodal_rows(stresses(D.T)).T  # E^T D B
     K_ee = csr_array(sum(eps[i].T @ sig[i] for i in range(3)))
     return csr_array(bmat([[K_nn, K_ne], [K_en, K_ee]], format="csr"))
+
+
+def _petrov_enriched(trial: Shape, test: Shape, w, D, backend) -> csr_array:
+    """[K_nn | K_ne], (2 n_test, n_dofs): nodal test functions (MLPG) against the nodal and the
+    enrichment trial unknowns; the rows of node I for the enrichment columns are
+    ``sum_q w_q B^v_I(x_q)^T D eps(E_e)(x_q)``. The enrichment unknowns' own equations are
+    the caller's (:func:`efgkit.methods.local.local_system`)."""
+    K_nn = stiffness(_nodal_part(trial), w, D, test=test, backend=backend)
+    e = trial.extra
+    if e.gxx is None or test.ddx is None:
+        raise ValueError("stiffness needs shape-function derivatives (derivatives=True)")
+    eps = (e.gxx, e.gyy, csr_array(e.gxy + e.gyx))
+    W = diags_array(w)
+    sig = [csr_array(W @ sum(D[i, j] * eps[j] for j in range(3) if D[i, j] != 0)) for i in range(3)]
+    dxT, dyT = csr_array(test.dx.T), csr_array(test.dy.T)
+    nf = test.n_functions
+    interleave = np.ravel(np.column_stack([np.arange(nf), nf + np.arange(nf)]))
+    kx = csr_array(dxT @ sig[0] + dyT @ sig[2])
+    ky = csr_array(dyT @ sig[1] + dxT @ sig[2])
+    K_ne = csr_array(vstack([kx, ky], format="csr")[interleave])
+    return csr_array(bmat([[K_nn, K_ne]], format="csr"))
 
 
 def load_vector(shape: Shape, w: np.ndarray, values: np.ndarray) -> np.ndarray:

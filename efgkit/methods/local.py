@@ -1,0 +1,318 @@
+"""MLPG1 sub-domains: scene + MLPG -> discs, test functions, local boundary pieces, K and f.
+
+Seed 002 Eqs. (20)-(24): for every node I, on the part Omega_s^I of its disc of radius r_sI
+inside the body and visible from x_I, with the test function v_I (quartic spline, Eq. 8)
+vanishing on the circle L_s,
+
+    K_IJ = int_{Omega_s^I} eps(v_I)^T D eps(phi_J) dOmega - int_{Gamma_su^I} v_I N D B_J dGamma
+           (+ alpha int_{Gamma_su^I} v_I phi_J dGamma,  bc="penalty")
+    f_I  = int_{Gamma_st^I} v_I tbar dGamma + int_{Omega_s^I} v_I b dOmega
+           (+ alpha int_{Gamma_su^I} v_I ubar dGamma,   bc="penalty")
+
+per displacement component: Gamma_su is where that component is prescribed, Gamma_st the
+rest of the body boundary inside the disc (traction tbar, 0 where none is given; crack
+faces carry their pressure). With the exact solution every row vanishes identically for
+any alpha, so the penalty form is consistent (unlike EFG's global penalty).
+
+Enrichment unknowns (extrinsic MLS, PU) have no node and no disc: their equations are the
+Galerkin rows of the global weak form tested with the enrichment functions E_e over the
+field quadrature, int_Omega eps(E_e)^T D eps(u) - int_Gamma_u E_e . t(u) (+ alpha
+int_Gamma_u E_e . (u - ubar)) = int_Gamma_t E_e . tbar + int_Omega E_e . b
+(docs/theory.md, "MLPG1").
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.sparse import coo_array, csr_array, diags_array, hstack, vstack
+
+from ..approx.shape import Shape
+from ..approx.test_functions import disc_test_functions
+from ..nodes import generate_nodes
+from ..problem.crack import FACE_OFFSET
+from ..problem.scene import Scene, evaluate_component, evaluate_vector
+from ..quadrature.boundary import boundary_points
+from ..quadrature.cells import cell_points
+from ..quadrature.discs import boundary_pieces, disc_points, edge_segments, sectors
+from ..quadrature.rules import Points
+from ..system.assemble import stiffness
+from .boundary import crack_face_loads
+from .discretize import (
+    Discretization,
+    approximation,
+    crack_mouths,
+    essential_nodes,
+    interpolating_supports,
+    shadow_rays,
+)
+from .mlpg import MLPG
+
+__all__ = ["LocalBoundary", "discretize_local", "local_system", "DEFAULT_MLPG_PENALTY"]
+
+DEFAULT_MLPG_PENALTY = 1e3  # alpha h / E of the penalty term in the local weak form
+
+
+@dataclass(frozen=True, eq=False)
+class LocalBoundary:
+    """The body boundary inside the sub-domains: Gauss points of every piece (``points``:
+    x, w, owner node, outward normal), the test and trial functions there, which
+    components are prescribed (``fixed (m, 2)``, ``value (m, 2)``) and the traction
+    ``(m, 2)`` elsewhere; ``radii (n_nodes,)`` are the test radii r_sI."""
+
+    points: Points
+    test: Shape
+    trial: Shape
+    fixed: np.ndarray
+    value: np.ndarray
+    traction: np.ndarray
+    radii: np.ndarray
+
+
+def test_radii(nodes, method: MLPG) -> np.ndarray:
+    """r_sI = test_radius c_I with c_I = d_mI / d_max (the spacing on a regular grid), (n,)."""
+    return method.test_radius * nodes.radius / method.d_max
+
+
+def _segments(scene: Scene):
+    """Boundary segments (split at crack mouths) with their edges, and the crack segments."""
+    edges = scene.domain.edges()
+    bseg, bedge, bs = edge_segments(edges, crack_mouths(scene))
+    cseg = (np.concatenate([c.segments for c in scene.cracks]) if scene.cracks
+            else np.zeros((0, 2, 2)))
+    return edges, bseg, bedge, bs, cseg
+
+
+def _face_sides(nodes, cseg) -> np.ndarray:
+    """For nodes split on a crack, a vector into their face's material; 0 elsewhere, (n, 2)."""
+    side = np.zeros((nodes.n, 2))
+    if nodes.face is None or not np.any(nodes.face):
+        return side
+    k = np.flatnonzero(nodes.face != 0)
+    e = cseg[nodes.face_segment[k], 1] - cseg[nodes.face_segment[k], 0]
+    side[k] = nodes.face[k, None] * np.column_stack([-e[:, 1], e[:, 0]])
+    return side
+
+
+def discretize_local(scene: Scene, method: MLPG) -> Discretization:
+    """Nodes, disc quadrature, trial and test functions and local boundary pieces.
+
+    Examples
+    --------
+    >>> from efgkit import Domain, Elastic, Scene, Support
+    >>> scene = Scene(Domain.rectangle(0, 0, 1, 1), Elastic(1.0, 0.3),
+    ...               supports=(Support("left", ux=0.0, uy=0.0),))
+    >>> d = discretize_local(scene, MLPG(spacing=0.25))
+    >>> d.nodes.n, d.points.n, int(d.test.neighbours.idx.shape[1])
+    (25, 1000, 1)
+    """
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene must be a Scene, got {type(scene).__name__}")
+    if not isinstance(method, MLPG):
+        raise TypeError(f"method must be an MLPG description, got {type(method).__name__}")
+    method = method.for_scene(scene)
+    timings = {}
+    t0 = time.perf_counter()
+    nodes = generate_nodes(scene.domain, method, scene.cracks)
+    r_s = test_radii(nodes, method)
+    interpolate = None
+    if method.bc == "modified_mls":
+        interpolate = essential_nodes(scene, nodes, method.spacing)
+        nodes = interpolating_supports(nodes, interpolate)
+    timings["nodes"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    edges, bseg, bedge, bs, cseg = _segments(scene)
+    allseg = np.concatenate([bseg, cseg])
+    side = _face_sides(nodes, cseg)
+    theta_a, span = sectors(nodes.x, r_s, allseg, scene.domain.contains, side)
+    points = disc_points(nodes.x, r_s, allseg, theta_a, span, method.quadrature, method.radial,
+                         method.angular, piece_angular=method.cut_angular)
+    bpts, edge_of = boundary_pieces(nodes.x, r_s, bseg, bedge, bs, edges, method.boundary_order,
+                                    blockers=cseg)
+    own_side = side[bpts.owner]
+    keep = np.einsum("nd,nd->n", own_side, bpts.x - nodes.x[bpts.owner]) >= 0
+    bpts = Points(bpts.x[keep], bpts.w[keep], bpts.owner[keep], bpts.normal[keep])
+    edge_of = edge_of[keep]
+    cells = cell_points(scene.domain, method.cell_size or method.spacing, method.order,
+                        zones=method.zones + method.tip_cell_zones(scene),
+                        refined_order=method.refined_order, cracks=scene.cracks,
+                        tip_rays=shadow_rays(scene, nodes), tip_order=method.tip_order)
+    timings["quadrature"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    approx = approximation(scene, method, nodes, interpolate)
+    timings["search"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    shape = approx.shape(points.x)
+    test = disc_test_functions(points.x, points.owner, nodes.x, r_s)
+    local = _local_boundary(scene, approx, nodes, r_s, bpts, edge_of, edges)
+    timings["shape"] = time.perf_counter() - t0
+    return Discretization(scene, method, nodes, points, shape, approx, timings, test=test,
+                          field_points=cells, local=local)
+
+
+def _local_boundary(scene, approx, nodes, r_s, bpts, edge_of, edges) -> LocalBoundary:
+    """Prescribed components and tractions at the boundary pieces of the sub-domains."""
+    x, mat = bpts.x, scene.material
+    fixed, value, traction = np.zeros((bpts.n, 2), bool), np.zeros((bpts.n, 2)), np.zeros((bpts.n, 2))
+    names = np.array([e.name for e in edges])
+    for tr in scene.tractions:
+        sel = names[edge_of] == tr.edge if isinstance(tr.edge, str) else np.asarray(tr.edge(x), bool)
+        if sel.any():
+            traction[sel] += evaluate_vector(tr.t, x[sel], bpts.normal[sel], mat)
+    for sup in scene.supports:
+        sel = names[edge_of] == sup.edge if isinstance(sup.edge, str) else np.asarray(sup.edge(x), bool)
+        for c, v in enumerate((sup.ux, sup.uy)):
+            if v is not None and sel.any():
+                new = sel & ~fixed[:, c]  # a point on two supports: the first wins
+                value[new, c] = evaluate_component(v, x[new], c, mat)
+                fixed[new, c] = True
+    traction = np.where(fixed, 0.0, traction)
+    test = disc_test_functions(x, bpts.owner, nodes.x, r_s, derivatives=False)
+    return LocalBoundary(bpts, test, approx.shape(x), fixed, value, traction, r_s)
+
+
+def _rows(test: Shape, w: np.ndarray, comp: int, n_rows: int, scale=None) -> csr_array:
+    """Sparse (n_rows, n_points): entry (2 owner + comp, q) = w_q v_q (times ``scale (n,)``)."""
+    owner = test.neighbours.idx[:, 0]
+    val = w * test.values[:, 0] * (1.0 if scale is None else scale)
+    return csr_array(coo_array((val, (2 * owner + comp, np.arange(len(w)))),
+                               shape=(n_rows, len(w))))
+
+
+def _traction_ops(shape: Shape, normal: np.ndarray, D: np.ndarray):
+    """(Tx, Ty) csr (m, n_dofs): the traction sigma(u) n of the coefficients at the points."""
+    gxx, gxy, gyx, gyy = shape.grad_operators()
+    eps = (gxx, gyy, csr_array(gxy + gyx))
+    sig = [csr_array(sum(D[i, j] * eps[j] for j in range(3) if D[i, j] != 0)) for i in range(3)]
+    nx, ny = diags_array(normal[:, 0]), diags_array(normal[:, 1])
+    return csr_array(nx @ sig[0] + ny @ sig[2]), csr_array(nx @ sig[2] + ny @ sig[1])
+
+
+def local_system(disc: Discretization, alpha: float | None) -> tuple[csr_array, np.ndarray]:
+    """K (n_dofs, n_dofs) and f (n_dofs,) of MLPG1 (module docstring); ``alpha`` the
+    penalty factor (force / length^3), None for no penalty term (modified MLS,
+    collocation: their essential rows are replaced afterwards)."""
+    scene, mat = disc.scene, disc.scene.material
+    D = mat.D
+    n2 = 2 * disc.nodes.n
+    nd = disc.n_dofs
+    K = stiffness(disc.shape, disc.points.w, D, test=disc.test)  # (2 n, n_dofs)
+    f = np.zeros(nd)
+    loc = disc.local
+    bp = loc.points
+    U = loc.trial.u_operators()
+    T = _traction_ops(loc.trial, bp.normal, D)
+    for c in range(2):
+        # Gamma_su: -int v t_c(u) (+ alpha int v (u_c - ubar_c)); Gamma_st: int v tbar_c
+        fix = loc.fixed[:, c].astype(float)
+        Rs = _rows(loc.test, bp.w, c, n2, fix)
+        term = -T[c]
+        if alpha is not None:
+            term = term + alpha * U[c]
+            f[:n2] += Rs @ (alpha * loc.value[:, c])
+        K = K + _pad(Rs @ term, nd)
+        f[:n2] += _rows(loc.test, bp.w, c, n2) @ loc.traction[:, c]
+    if scene.body_force is not None:
+        b = evaluate_vector(scene.body_force, disc.points.x, np.zeros_like(disc.points.x), mat)
+        for c in range(2):
+            f[:n2] += _rows(disc.test, disc.points.w, c, n2) @ b[:, c]
+    f[:n2] += _face_pressure(disc)
+    K = csr_array(K)
+    if nd > n2:
+        Ke, fe = _enrichment_rows(disc, alpha)
+        K = csr_array(vstack([K, Ke], format="csr"))
+        f[n2:] = fe
+    return K, f
+
+
+def _pad(A, n_cols) -> csr_array:
+    A = csr_array(A)
+    return A if A.shape[1] == n_cols else csr_array(hstack(
+        [A, csr_array((A.shape[0], n_cols - A.shape[1]))], format="csr"))
+
+
+def _face_pressure(disc: Discretization) -> np.ndarray:
+    """int_{crack faces in Omega_s^I} v_I p n dGamma: pressurised crack faces are loaded
+    parts of the sub-domain boundaries (the Gauss rules of
+    :func:`~efgkit.methods.boundary.crack_face_loads`, tested by every disc holding a point
+    on its own side)."""
+    from scipy.spatial import cKDTree
+
+    n2 = 2 * disc.nodes.n
+    f = np.zeros(n2)
+    m = disc.method
+    r_s = disc.local.radii
+    tree = cKDTree(disc.nodes.x)
+    for crack in disc.scene.cracks:
+        if crack.pressure == 0.0:
+            continue
+        for x, w, t in crack_face_loads(crack, m.spacing, max(m.order, 2)):
+            near = tree.query_ball_point(x, r_s.max())
+            q = np.repeat(np.arange(len(x)), [len(v) for v in near])
+            node = np.concatenate([np.asarray(v, int) for v in near]) if len(q) else np.zeros(0, int)
+            d = np.hypot(*(x[q] - disc.nodes.x[node]).T)
+            ok = d < r_s[node]
+            ok &= _same_side(disc, x[q], node, FACE_OFFSET * m.spacing)
+            q, node = q[ok], node[ok]
+            v = disc_test_functions(x[q], node, disc.nodes.x, r_s, derivatives=False).values[:, 0]
+            for c in range(2):
+                f[c::2] += np.bincount(node, w[q] * v * t[q, c], minlength=disc.nodes.n)
+    return f
+
+
+def _same_side(disc, x, node, tol) -> np.ndarray:
+    """Whether face points ``x (p, 2)`` are visible from their nodes (no crack between)."""
+    from ..quadrature.discs import visible
+
+    cseg = np.concatenate([c.segments for c in disc.scene.cracks])
+    return visible(disc.nodes.x[node], x, cseg, tol * 1e-3)
+
+
+def _enrichment_rows(disc: Discretization, alpha: float | None):
+    """Galerkin rows of the enrichment unknowns over the field quadrature (module docstring):
+    Ke (n_extra, n_dofs), fe (n_extra,)."""
+    scene, mat = disc.scene, disc.scene.material
+    D = mat.D
+    sh = disc.post_shape
+    w = disc.post_points.w
+    e = sh.extra
+    eps_e = (e.gxx, e.gyy, csr_array(e.gxy + e.gyx))
+    gxx, gxy, gyx, gyy = sh.grad_operators()
+    eps = (gxx, gyy, csr_array(gxy + gyx))
+    W = diags_array(w)
+    Ke = None
+    for i in range(3):
+        sig_i = csr_array(sum(D[i, j] * eps[j] for j in range(3) if D[i, j] != 0))
+        term = csr_array(eps_e[i].T @ W @ sig_i)
+        Ke = term if Ke is None else Ke + term
+    fe = np.zeros(e.n)
+    if scene.body_force is not None:
+        b = evaluate_vector(scene.body_force, disc.post_points.x, np.zeros_like(disc.post_points.x), mat)
+        fe += e.ux.T @ (w * b[:, 0]) + e.uy.T @ (w * b[:, 1])
+    m = disc.method
+    order = max(m.order, 2)
+    mouths = crack_mouths(scene)
+    for tr in scene.tractions:
+        pts = boundary_points(scene.domain, tr.edge, order, m.spacing, mouths)
+        t = evaluate_vector(tr.t, pts.x, pts.normal, mat)
+        ex = disc.shape_at(pts.x, derivatives=False).extra
+        fe += ex.ux.T @ (pts.w * t[:, 0]) + ex.uy.T @ (pts.w * t[:, 1])
+    for sup in scene.supports:
+        pts = boundary_points(scene.domain, sup.edge, order, m.spacing, mouths)
+        sh_b = disc.shape_at(pts.x)
+        U = sh_b.u_operators()
+        T = _traction_ops(sh_b, pts.normal, D)
+        ex = sh_b.extra
+        for c, v in enumerate((sup.ux, sup.uy)):
+            if v is None:
+                continue
+            E = (ex.ux, ex.uy)[c]
+            Wb = diags_array(pts.w)
+            Ke = Ke - csr_array(E.T @ Wb @ T[c])
+            if alpha is not None:
+                ub = evaluate_component(v, pts.x, c, mat)
+                Ke = Ke + alpha * csr_array(E.T @ Wb @ U[c])
+                fe += alpha * (E.T @ (pts.w * ub))
+    return csr_array(Ke), fe
