@@ -5,7 +5,6 @@ import numpy as np
 import pytest
 
 from efgkit import MLPG, Domain, Elastic, Scene, Support, Traction, solve
-from efgkit.system.collocation import collocation
 from efgkit.system.constraints import LinearSystem
 from efgkit.system.krylov import solve_unsymmetric
 
@@ -59,17 +58,6 @@ def test_krylov_solvers_reach_tolerance():
         z, info = solve_unsymmetric(LinearSystem(K, f, False, K.shape[0]), kind)
         assert info["residual"] <= 1e-8 and info["iterations"] > 0
         assert np.abs(z - sol.coeffs).max() < 1e-6 * np.abs(sol.coeffs).max()
-
-
-def test_collocation_replaces_rows():
-    from scipy.sparse import csr_array
-
-    K = csr_array(np.array([[2.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 2.0]]))
-    s = collocation(K, np.zeros(3), csr_array(np.array([[0.0, 0.0, 1.0]])), [3.0], [2])
-    z = np.linalg.solve(s.A.toarray(), s.b)
-    assert np.allclose(z, [1.0, 2.0, 3.0])  # u'' = 0 with u0 from row 0, u2 = 3
-    with pytest.raises(ValueError, match="rows must have shape"):
-        collocation(K, np.zeros(3), csr_array(np.ones((2, 3))), [1.0], [0])
 
 
 @pytest.mark.parametrize(("kw", "match"), [
