@@ -6,8 +6,9 @@ a0 = 12 mm, step tension 0.1 MPa on top and bottom, E = 75.6 GPa, nu = 0.286, rh
 kg/m^3, plane strain; units mm, N, MPa, tonne/mm^3, s). Both tips start running at
 ``V = 1000 m/s`` at ``t0 = 4 us`` (seed 002 does not state its start time; 4 us lies in the
 window below, 0.84 us after the wave reaches the crack) by increments ``da`` = one node
-spacing, 1 mm (quick mode: the 2 mm grid, da = 1 mm) (:class:`efgkit.growth.dynamic.PrescribedSpeed`, each advance a full rebuild and a
-re-fit of the state), K_I from the moving-tip J' at speed V; the same run with a
+spacing, 1 mm (quick mode: the 2 mm grid, da = 1 mm)
+(:class:`efgkit.growth.dynamic.PrescribedSpeed`, each advance a full rebuild and a re-fit
+of the state), K_I from the moving-tip J' at speed V; the same run with a
 stationary crack beside it. Seed 002 Fig. 5 (not in the text) plots both histories;
 the text says only that they "agree well" with the moving-singular-element results of
 Nishioka and Atluri (1980).
@@ -145,8 +146,10 @@ def main(quick: bool = False, out_dir=None) -> dict:
     a = prescribed(53, 21, 0.2 * US, 6.6 * US) if quick else prescribed(105, 42, 0.1 * US, 8.0 * US)
     b = criterion(6.0 * US if quick else 10.0 * US)
     rep.metrics.update(_lists({"prescribed": a, "criterion": b}))
-    # NOT a check: the cycle mean against Freund's k(V) misses (quick: 51 %; record: full
-    # mode), the instantaneous nodal release overshoots (module docstring)
+    # k(V): full mode only (1 mm grid, measured 4.8 %); the quick 2 mm grid misses it by
+    # 51 % (recorded, not checked: a 1 mm increment on a 2 mm grid is not resolved)
+    if not quick:
+        rep.check("prescribed speed: |cycle mean of K_run/K_stat / k(V) - 1|", a["k_error"], "<=", 0.15)
     rep.check("prescribed speed, before the first advance: |K_run/K_stat / sqrt(A_I(0)/A_I(V)) - 1|",
               a["pre_advance_error"], "<=", 2e-4)  # measured 6e-5 (quick and full)
     rep.check("criterion: advances (initiation and a speed history)", len(b["advance_t_us"]), ">=", 2)
@@ -154,7 +157,8 @@ def main(quick: bool = False, out_dir=None) -> dict:
     rep.ref("velocity_factor", a["velocity_factor"], "seed 002 Eqs. 33-34: sqrt(A_I(0) / A_I(V))")
     rep.ref("k_V", a["k_V"], "Freund 1990 Sect. 7.4: k(V) ~ (1 - V/c_R)/sqrt(1 - V/c_d), the "
             "running/stationary K ratio for a crack starting to run under step-wave loading")
-    rep.ref("c_R_m_s", b["c_R_m_s"], "Rayleigh speed of the material (Elastic.c_rayleigh; seed 000 Eqs. 5.9-5.10)")
+    rep.ref("c_R_m_s", b["c_R_m_s"],
+            "Rayleigh speed of the material (Elastic.c_rayleigh; seed 000 Eqs. 5.9-5.10)")
     return rep.write(out_dir)
 
 

@@ -147,7 +147,7 @@ class _Stress:
 
     def sigma1(self, u: np.ndarray) -> dict:
         s = strain_from_gradient(self.shape.gradient(u)) @ self.D.T
-        return dict(zip(self.ids, principal_stress(s)))
+        return dict(zip(self.ids, principal_stress(s), strict=True))
 
 
 def run_growing(scene, method, rule, stepping: Stepping | None = None, *, radii=None,
