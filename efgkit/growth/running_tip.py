@@ -59,7 +59,8 @@ def transfer_state(old_disc, new_disc, *coeffs: np.ndarray) -> tuple[np.ndarray,
     --------
     >>> from efgkit import EFG, Crack, Domain, Elastic, Scene
     >>> from efgkit.methods.discretize import discretize
-    >>> sc = Scene(Domain.rectangle(0, 0, 4, 2), Elastic(1.0, 0.3), cracks=(Crack([[0, 1.05], [1.5, 1.05]]),))
+    >>> crack = Crack([[0, 1.05], [1.5, 1.05]], tips=(False, True))     # an edge crack
+    >>> sc = Scene(Domain.rectangle(0, 0, 4, 2), Elastic(1.0, 0.3), cracks=(crack,))
     >>> m = EFG(spacing=0.5, enrichment="none", zones=())
     >>> old = discretize(sc, m)
     >>> new = discretize(sc.with_cracks([sc.cracks[0].extended(0.5)]), m)
