@@ -21,16 +21,19 @@ def _scene(duration=0.6, a=0.6, load=1.0):
                             Traction("bottom", (0.0, -load), history=Heaviside())))
 
 
-def _method():
-    X, Y = np.meshgrid(np.linspace(-2, 2, 17), np.linspace(-1, 1, 8))  # no row on y = 0
+def _method(ny=8):
+    X, Y = np.meshgrid(np.linspace(-2, 2, 17), np.linspace(-1, 1, ny))  # ny even: no row on y = 0
     return EFG(spacing=0.25, coordinates=np.column_stack([X.ravel(), Y.ravel()]), d_max=2.5,
                zones=(), enrichment="none")
 
 
-def test_transfer_preserves_nodal_field():
-    sc, m = _scene(), _method()
+@pytest.mark.parametrize("ny", [8, 9])
+def test_transfer_preserves_nodal_field(ny):
+    sc, m = _scene(), _method(ny)
     old = discretize(sc, m)
     new = discretize(sc.with_cracks([sc.cracks[0].extended(0.25, end=1)]), m)
+    if ny == 9:  # a row on the crack line: the new segment splits the node at (0.75, 0)
+        assert new.nodes.n == old.nodes.n + 1
     rng = np.random.default_rng(0)
     c = np.zeros(old.n_dofs)
     c[: 2 * old.nodes.n] = rng.standard_normal(2 * old.nodes.n)
