@@ -70,14 +70,18 @@ def test_prescribed_speed_advance_timing():
     assert np.all(np.isfinite(r.history["K"]))
 
 
-def test_criterion_initiates():
+@pytest.mark.parametrize("direction", ["straight", "principal"])
+def test_criterion_initiates(direction):
     sc, m = _scene(duration=1.6), _method()
-    r = run_growing(sc, m, PrincipalStress(1.0), Stepping(dt=0.05, output_interval=0.1),
-                    radii=(0.4, 0.5, 0.6))
+    r = run_growing(sc, m, PrincipalStress(1.0, direction=direction),
+                    Stepping(dt=0.05, output_interval=0.1), radii=(0.4, 0.5, 0.6))
     assert len(r.advances["t"]) >= 2
     # nothing can happen before the first wave reaches the crack plane (1 / c_d)
     assert r.advances["t"][0] > 1.0 / MAT.c_dilatational
     assert r.scene.cracks[0].vertices.shape[0] > 2
+    # symmetric mode I (scene and nodes mirror about y = 0): sigma_1 ahead is along y, so
+    # the principal rule runs straight too
+    assert np.max(np.abs(r.scene.cracks[0].vertices[:, 1])) <= 1e-9
 
 
 def test_principal_stress():
@@ -96,6 +100,8 @@ def test_errors():
         PrincipalStress(-1.0)
     with pytest.raises(ValueError, match="speed"):
         PrescribedSpeed(-1.0)
+    with pytest.raises(ValueError, match="direction"):
+        PrincipalStress(1.0, direction="hoop")
     with pytest.raises(ValueError, match="check_every"):
         PrincipalStress(1.0, check_every=0)
     with pytest.raises(ValueError, match="not tips"):

@@ -12,8 +12,10 @@ spacing, nodal release: seed 000 Sect. 5.2.2, seed 002 Sect. 3.1):
   segment when the maximum principal stress ``sigma_1 = (s_xx + s_yy) / 2 + sqrt(((s_xx -
   s_yy) / 2)^2 + s_xy^2)`` at the material point ``ahead`` ahead of it (on the tip's x1
   axis) reaches ``sigma_c``; the crack runs straight (the tip frame's x1 axis) to that point
-  (``ahead = da``). The speed is the least-squares slope over 11 advances
-  (:func:`~efgkit.growth.running_tip.speed_fit`); the ``J'`` of a tip uses the fit over its
+  (``ahead = da``), or with ``direction="principal"`` normal to the direction of
+  ``sigma_1`` there (the kink ``theta = angle(n_1) + pi/2 - tip angle``, taken into
+  [-pi/2, pi/2); for a mode-I field ahead of the tip it is 0). The speed is the
+  least-squares slope over 11 advances (:func:`~efgkit.growth.running_tip.speed_fit`); the ``J'`` of a tip uses the fit over its
   last advances (0 before the second one); a speed at or above ``c_R`` stops the run.
 
 At each advance the crack gains its segment (:func:`~efgkit.growth.extend.advance`), the
@@ -74,15 +76,19 @@ class PrescribedSpeed:
 class PrincipalStress:
     """Nodal release when the maximum principal stress ``ahead`` ahead of a tip reaches
     ``sigma_c`` (seed 000 Sect. 5.2.2), checked every ``check_every`` steps; increments
-    ``da`` (None: the node spacing); ``ahead`` None: ``da``."""
+    ``da`` (None: the node spacing); ``ahead`` None: ``da``; ``direction`` "straight"
+    (along the tip) or "principal" (normal to the sigma_1 direction at that point)."""
 
     sigma_c: float
     da: float | None = None
     ahead: float | None = None
     check_every: int = 1
     tips: tuple | None = None
+    direction: str = "straight"
 
     def __post_init__(self):
+        if self.direction not in ("straight", "principal"):
+            raise ValueError(f"direction must be 'straight' or 'principal', got {self.direction!r}")
         if isinstance(self.sigma_c, bool) or not isinstance(self.sigma_c, (int, float)):
             raise TypeError(f"sigma_c must be a real number, got {self.sigma_c!r}")
         if not (math.isfinite(self.sigma_c) and self.sigma_c > 0):
@@ -143,11 +149,16 @@ class _Stress:
         self.ids = [t.id for t in tips]
         x = np.array([t.x + ahead * np.array([math.cos(t.angle), math.sin(t.angle)]) for t in tips])
         self.shape = dyn.disc.shape_at(x, derivatives=True)
+        self.angles = np.array([t.angle for t in tips])
         self.D = dyn.disc.scene.material.D
 
-    def sigma1(self, u: np.ndarray) -> dict:
+    def sigma1(self, u: np.ndarray) -> tuple[dict, dict]:
+        """``({tip id: sigma_1}, {tip id: kink angle normal to the sigma_1 direction})``."""
         s = strain_from_gradient(self.shape.gradient(u)) @ self.D.T
-        return dict(zip(self.ids, principal_stress(s), strict=True))
+        normal = 0.5 * np.arctan2(2 * s[:, 2], s[:, 0] - s[:, 1]) + 0.5 * np.pi  # crack direction
+        kink = (normal - self.angles + 0.5 * np.pi) % np.pi - 0.5 * np.pi  # in [-pi/2, pi/2)
+        return (dict(zip(self.ids, principal_stress(s), strict=True)),
+                dict(zip(self.ids, kink, strict=True)))
 
 
 def run_growing(scene, method, rule, stepping: Stepping | None = None, *, radii=None,
@@ -255,8 +266,9 @@ def run_growing(scene, method, rule, stepping: Stepping | None = None, *, radii=
         if prescribed:
             moves = {k: (da, 0.0) for k in active} if step > n_start else {}
         else:
-            s1 = stress.sigma1(state.u)
-            moves = {k: (da, 0.0) for k in active if s1[k] >= rule.sigma_c}
+            s1, kink = stress.sigma1(state.u)
+            turn = rule.direction == "principal"
+            moves = {k: (da, float(kink[k]) if turn else 0.0) for k in active if s1[k] >= rule.sigma_c}
         if not moves:
             continue
         if n_adv + len(moves) > max_advances:
