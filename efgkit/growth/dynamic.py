@@ -15,8 +15,9 @@ spacing, nodal release: seed 000 Sect. 5.2.2, seed 002 Sect. 3.1):
   (``ahead = da``), or with ``direction="principal"`` normal to the direction of
   ``sigma_1`` there (the kink ``theta = angle(n_1) + pi/2 - tip angle``, taken into
   [-pi/2, pi/2); for a mode-I field ahead of the tip it is 0). The speed is the
-  least-squares slope over 11 advances (:func:`~efgkit.growth.running_tip.speed_fit`); the ``J'`` of a tip uses the fit over its
-  last advances (0 before the second one); a speed at or above ``c_R`` stops the run.
+  least-squares slope over 11 advances (:func:`~efgkit.growth.running_tip.speed_fit`);
+  the ``J'`` of a tip uses the fit over its last advances (0 before the second one); a
+  speed at or above ``c_R`` stops the run.
 
 At each advance the crack gains its segment (:func:`~efgkit.growth.extend.advance`), the
 discretisation and the system are rebuilt in full (:func:`~efgkit.explicit.system.dynamics`
