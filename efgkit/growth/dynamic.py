@@ -24,8 +24,10 @@ discretisation and the system are rebuilt in full (:func:`~efgkit.explicit.syste
 and the critical step :func:`~efgkit.explicit.system.stable_step`: their seconds are in
 ``timings["rebuild"]``), and the state is carried over by re-fitting the displacement and
 velocity coefficients to the old fields at the (unmoved) nodes
-(:func:`~efgkit.growth.running_tip.transfer_state`). The step ``dt`` stays the one of the
-first system; a rebuilt system whose critical step falls below it stops the run.
+(:func:`~efgkit.growth.running_tip.transfer_state`), then imposing the supports of the new
+system as :func:`~efgkit.explicit.integrate.initial_state` does. The step ``dt`` stays
+the one of the first system; a rebuilt system whose critical step falls below it stops
+the run.
 """
 
 from __future__ import annotations
@@ -129,6 +131,8 @@ class DynamicGrowth:
         Why the run ended.
     scene : Scene
         The last scene (cracks as grown).
+    state : State
+        The final state (coefficients of the last scene's discretisation).
     info, timings : dict
     """
 
@@ -138,6 +142,7 @@ class DynamicGrowth:
     tips: tuple
     stop: str
     scene: object
+    state: object = None
     info: dict = field(default_factory=dict)
     timings: dict = field(default_factory=dict)
 
@@ -289,6 +294,12 @@ def run_growing(scene, method, rule, stepping: Stepping | None = None, *, radii=
             break
         t1 = time.perf_counter()
         u, v = transfer_state(dyn.disc, new.disc, state.u, state.v)
+        if new.projection is not None:  # the supports of the new system, as initial_state
+            P = new.projection
+            u = u - P.correction(u)
+            v = v - P.minv_GT @ P.lu.solve(P.G @ v)
+        u[new.fixed] = new.fixed_values
+        v[new.fixed] = 0.0
         timings["transfer"] += time.perf_counter() - t1
         state = State(state.step, dt, u, v, state.work, None, 0.0, 0.0)
         dyn, moved = new, True
@@ -315,4 +326,5 @@ def run_growing(scene, method, rule, stepping: Stepping | None = None, *, radii=
     timings["total"] = time.perf_counter() - t0
     info = {"dt": dt, "dt_critical": crit[0], "da": da, "steps": step, "n_advances": n_adv,
             "rebuilds": n_adv if prescribed else len(events["t"]), "c_R": mat.c_rayleigh}
-    return DynamicGrowth(history, advances, speeds, tuple(ids), stop, dyn.disc.scene, info, timings)
+    return DynamicGrowth(history, advances, speeds, tuple(ids), stop, dyn.disc.scene, state, info,
+                         timings)
