@@ -7,7 +7,7 @@ import pytest
 
 from efgkit import EFG, Crack, Domain, Elastic, Scene, Traction
 from efgkit.growth.dynamic import PrescribedSpeed, PrincipalStress, principal_stress, run_growing
-from efgkit.growth.running_tip import check_speed, speed_fit, transfer_state
+from efgkit.growth.running_tip import check_speed, copy_state, speed_fit, transfer_state
 from efgkit.methods.discretize import discretize
 from efgkit.problem.history import Heaviside, Stepping
 
@@ -44,6 +44,26 @@ def test_transfer_preserves_nodal_field(ny):
     # the refit solves Phi' c' = u(x_I): exact up to the LU round-off
     assert np.max(np.abs(after - before)) <= 1e-10 * np.max(np.abs(before))
     assert np.allclose(new.shape_at(x, derivatives=False).displacement(v2), 2 * before, atol=1e-10)
+
+
+def test_copy_keeps_coefficients_node_by_node():
+    sc, m = _scene(), _method(9)
+    old = discretize(sc, m)
+    new = discretize(sc.with_cracks([sc.cracks[0].extended(0.25, end=1)]), m)
+    c = np.zeros(old.n_dofs)
+    c[: 2 * old.nodes.n] = np.random.default_rng(2).standard_normal(2 * old.nodes.n)
+    (c2,) = copy_state(old, new, c)
+    # every new node sits where an old one did: its coefficients are that node's
+    xo, xn = old.nodes.x, new.nodes.x
+    j = np.argmin(np.hypot(xn[:, None, 0] - xo[None, :, 0], xn[:, None, 1] - xo[None, :, 1]), axis=1)
+    same = np.flatnonzero(np.hypot(*(xn - xo[j]).T) == 0)
+    split = np.flatnonzero((new.nodes.face != 0) & np.isclose(xn[:, 0], 0.75) & (xn[:, 1] == 0))
+    assert len(split) == 2  # both copies of the node the new segment split
+    assert np.allclose(c2[2 * split], c2[2 * split[0]])
+    keep = same[(new.nodes.face[same] == 0) & (old.nodes.face[j[same]] == 0)]  # unsplit nodes
+    assert len(keep) > 100
+    assert np.array_equal(c2[2 * keep], c[2 * j[keep]])
+    assert np.array_equal(c2[2 * keep + 1], c[2 * j[keep] + 1])
 
 
 def test_speed_fit_exact_for_linear_history():
@@ -100,6 +120,8 @@ def test_errors():
         PrincipalStress(-1.0)
     with pytest.raises(ValueError, match="speed"):
         PrescribedSpeed(-1.0)
+    with pytest.raises(ValueError, match="transfer"):
+        run_growing(_scene(), _method(), PrescribedSpeed(0.1), transfer="nearest")
     with pytest.raises(ValueError, match="direction"):
         PrincipalStress(1.0, direction="hoop")
     with pytest.raises(ValueError, match="check_every"):

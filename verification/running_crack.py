@@ -20,10 +20,10 @@ with the universal function ``k(V) ~ (1 - V / c_R) / sqrt(1 - V / c_d)`` (Freund
 *Dynamic Fracture Mechanics*, 1990, Sect. 7.4; the approximation is within a few percent
 of the exact k). Measured: ``K_run / K_stat`` (the stationary history interpolated to the
 running instants) over whole advance cycles from the first advance to the end of the
-window: its cycle mean (``ratio_mean``) against ``k(V)`` (``k_error``; checked on the
-seed's grid, within 15 %). Full mode also records the mean for other increments and a
-grid twice as fine (``sensitivity``, not checked): it is not converged (4.8 % on the
-seed's grid, 13 % at 0.5 mm spacing with 1 mm increments). The tip of the
+window: its cycle mean (``ratio_mean``) against ``k(V)`` (``k_error``). The state crosses
+each rebuild by copying the coefficients node by node (the default of ``run_growing``).
+Full mode also records the mean for other increments, a grid twice as fine and the
+re-fit transfer (``sensitivity``, not checked; the re-fit blows up on the fine grid). The tip of the
 model jumps by ``da`` at each advance and stands between (nodal release without a
 gradual release of the cohesive force): K falls right after an advance and rises above
 the continuous value before the next, a sawtooth whose mean is compared; its extremes
@@ -64,7 +64,8 @@ def k_universal(v: float, mat: Elastic) -> float:
     return (1 - v / mat.c_rayleigh) / math.sqrt(1 - v / mat.c_dilatational)
 
 
-def prescribed(nx: int, ny: int, dt: float, duration: float, da: float = 1.0) -> dict:
+def prescribed(nx: int, ny: int, dt: float, duration: float, da: float = 1.0,
+               transfer: str = "copy") -> dict:
     sc = scene("mode_I", duration)
     m = METHODS["efg"](nx, ny)
     h = m.spacing
@@ -73,7 +74,8 @@ def prescribed(nx: int, ny: int, dt: float, duration: float, da: float = 1.0) ->
     t0 = time.perf_counter()
     stat = run_growing(sc, m, PrescribedSpeed(SPEED, start=10 * duration, da=da), st, radii=radii)
     t1 = time.perf_counter()
-    run = run_growing(sc, m, PrescribedSpeed(SPEED, start=START, da=da), st, radii=radii)
+    run = run_growing(sc, m, PrescribedSpeed(SPEED, start=START, da=da), st, radii=radii,
+                      transfer=transfer)
     t2 = time.perf_counter()
     mat = sc.material
     norm = LOAD * math.sqrt(math.pi * A0)
@@ -104,7 +106,7 @@ def prescribed(nx: int, ny: int, dt: float, duration: float, da: float = 1.0) ->
             "ratio_max": float(ratio.max()) if cycles else math.nan,
             "window_us": [first / US, (first + cycles * per) / US], "cycles": cycles,
             "t_end_us": t_end / US, "advances": len(run.advances["t"]), "stop": run.stop,
-            "dt_us": dt / US, "da_mm": run.info["da"], "nodes": [nx, ny],
+            "dt_us": dt / US, "da_mm": run.info["da"], "nodes": [nx, ny], "transfer": transfer,
             "seconds": {"stationary": t1 - t0, "running": t2 - t1},
             "rebuild_seconds_per_advance": run.timings["rebuild"] / max(run.info["rebuilds"], 1),
             "transfer_seconds_per_advance": run.timings["transfer"] / max(run.info["rebuilds"], 1),
@@ -150,17 +152,17 @@ def main(quick: bool = False, out_dir=None) -> dict:
     b = criterion(6.0 * US if quick else 10.0 * US)
     sens = []
     if not quick:  # the cycle mean against the increment and the grid (not checked)
-        for nx, ny, dt, da in ((105, 42, 0.1 * US, 0.5), (209, 83, 0.05 * US, 1.0),
-                               (209, 83, 0.05 * US, 0.5)):
-            s = prescribed(nx, ny, dt, 7.5 * US, da=da)
-            sens.append({k: s[k] for k in ("nodes", "da_mm", "cycles", "ratio_mean", "k_error",
-                                           "ratio_min", "ratio_max")})
+        for nx, ny, dt, da, tr in ((105, 42, 0.1 * US, 0.5, "copy"), (209, 83, 0.05 * US, 1.0, "copy"),
+                                   (209, 83, 0.05 * US, 0.5, "copy"), (105, 42, 0.1 * US, 1.0, "refit"),
+                                   (209, 83, 0.05 * US, 0.5, "refit")):
+            s = prescribed(nx, ny, dt, 7.5 * US, da=da, transfer=tr)
+            sens.append({k: s[k] for k in ("nodes", "da_mm", "transfer", "cycles", "ratio_mean",
+                                           "k_error", "ratio_min", "ratio_max")})
     a["sensitivity"] = sens
     rep.metrics.update(_lists({"prescribed": a, "criterion": b}))
-    # k(V): full mode only (1 mm grid, measured 4.8 %); the quick 2 mm grid misses it by
-    # 51 % (recorded, not checked: a 1 mm increment on a 2 mm grid is not resolved)
-    if not quick:
-        rep.check("prescribed speed: |cycle mean of K_run/K_stat / k(V) - 1|", a["k_error"], "<=", 0.15)
+    # k(V): measured 9.0 % (quick, 2 mm grid) and 6.1 % (full, the seed's 1 mm grid)
+    rep.check("prescribed speed: |cycle mean of K_run/K_stat / k(V) - 1|", a["k_error"], "<=",
+              0.25 if quick else 0.15)
     rep.check("prescribed speed, before the first advance: |K_run/K_stat / sqrt(A_I(0)/A_I(V)) - 1|",
               a["pre_advance_error"], "<=", 2e-4)  # measured 6e-5 (quick and full)
     rep.check("criterion: advances (initiation and a speed history)", len(b["advance_t_us"]), ">=", 2)
@@ -179,7 +181,8 @@ def markdown(r: dict) -> list[str]:
     return [f"(a) Centre-cracked plate, {a['nodes'][0]} x {a['nodes'][1]} nodes, dt = {a['dt_us']:g} us, "
             f"both tips run at 1000 m/s from {START / US:g} us by da = {a['da_mm']:g} mm "
             f"({a['advances']} advances, full rebuild {a['rebuild_seconds_per_advance']:.2f} s "
-            f"and state re-fit {a['transfer_seconds_per_advance']:.2f} s per advance). Over "
+            f"and state transfer ({a['transfer']}) {a['transfer_seconds_per_advance']:.2f} s per "
+            "advance). Over "
             f"{a['cycles']} advance cycles ({a['window_us'][0]:.2f}-{a['window_us'][1]:.2f} us, "
             f"before the other tip's waves at {a['t_end_us']:.2f} us) the cycle mean of K_run / "
             f"K_stat is {a['ratio_mean']:.3f} against Freund's k(V) = {a['k_V']:.3f} (error "
@@ -189,9 +192,9 @@ def markdown(r: dict) -> list[str]:
             "says it plots the stationary and the running histories, and the text that they "
             "agree with Nishioka and Atluri's moving singular elements; Freund's k(V) < 1 is "
             "the drop of K when the crack starts to run.",
-            *([""] + ["| nodes | da (mm) | cycles | cycle mean K_run/K_stat | error vs k(V) | "
-                      "min | max |", "|---|---|---|---|---|---|---|"]
-              + [f"| {s['nodes'][0]} x {s['nodes'][1]} | {s['da_mm']:g} | {s['cycles']} | "
+            *([""] + ["| nodes | da (mm) | state transfer | cycles | cycle mean K_run/K_stat | "
+                      "error vs k(V) | min | max |", "|---|---|---|---|---|---|---|---|"]
+              + [f"| {s['nodes'][0]} x {s['nodes'][1]} | {s['da_mm']:g} | {s['transfer']} | {s['cycles']} | "
                  f"{s['ratio_mean']:.3f} | {s['k_error']:.1%} | {s['ratio_min']:.2f} | "
                  f"{s['ratio_max']:.2f} |" for s in a.get("sensitivity", [])]
               if a.get("sensitivity") else []),

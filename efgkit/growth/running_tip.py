@@ -27,7 +27,7 @@ from ..explicit.dsif import TipOperators
 from ..fracture.dynamic_tip import dynamic_tip_result
 from ..problem.material import strain_from_gradient
 
-__all__ = ["MovingTipDSIF", "check_speed", "speed_fit", "transfer_state"]
+__all__ = ["MovingTipDSIF", "check_speed", "copy_state", "speed_fit", "transfer_state"]
 
 FACE_FRACTION = 1e-3  # as explicit.system.fit_coefficients: split nodes moved onto their face
 
@@ -80,6 +80,33 @@ def transfer_state(old_disc, new_disc, *coeffs: np.ndarray) -> tuple[np.ndarray,
         new = np.zeros(new_disc.n_dofs)
         new[0:2 * n:2] = lu.solve(vals[:, 0])
         new[1:2 * n:2] = lu.solve(vals[:, 1])
+        out.append(new)
+    return tuple(out)
+
+
+def copy_state(old_disc, new_disc, *coeffs: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Carry coefficients over node by node: each node of ``new_disc`` takes the coefficients
+    of the node of ``old_disc`` at its place (a node newly split by the segment: both copies
+    take the coefficients of the node it was), enrichment coefficients 0. The fields change
+    only where the shape functions do, near the new segment (seed 002 Sect. 3.1: only the
+    nodes the new segment influences change); no solve, so no amplification by the
+    conditioning of the nodal matrix ``Phi'`` (:func:`transfer_state`)."""
+    from scipy.spatial import cKDTree
+
+    xo = old_disc.nodes.face_positions(old_disc.approx.lines, FACE_FRACTION)
+    xn = new_disc.nodes.face_positions(new_disc.approx.lines, FACE_FRACTION)
+    d, j = cKDTree(xo).query(xn)
+    tol = 2 * FACE_FRACTION * new_disc.nodes.radius
+    if np.any(d > tol):
+        k = int(np.argmax(d - tol))
+        raise ValueError(f"node {k} at {xn[k].tolist()} of the new discretisation has no node of "
+                         "the old one at its place: the nodes must not move between rebuilds")
+    out = []
+    for c in coeffs:
+        c = np.asarray(c, float)
+        new = np.zeros(new_disc.n_dofs)
+        new[0:2 * len(xn):2] = c[2 * j]
+        new[1:2 * len(xn):2] = c[2 * j + 1]
         out.append(new)
     return tuple(out)
 
