@@ -149,7 +149,7 @@ def _lists(obj):
 def main(quick: bool = False, out_dir=None) -> dict:
     rep = Report(NAME, quick)
     a = prescribed(53, 21, 0.2 * US, 6.6 * US) if quick else prescribed(105, 42, 0.1 * US, 8.0 * US)
-    b = criterion(6.0 * US if quick else 10.0 * US)
+    b = criterion(6.0 * US if quick else 18.0 * US)
     sens = []
     if not quick:  # the cycle mean against the increment and the grid (not checked)
         for nx, ny, dt, da, tr in ((105, 42, 0.1 * US, 0.5, "copy"), (209, 83, 0.05 * US, 1.0, "copy"),
