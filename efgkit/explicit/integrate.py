@@ -33,6 +33,7 @@ import numpy as np
 from numba import njit
 
 from ..methods.efg import EFG
+from ..methods.mlpg import MLPG
 from ..problem.history import Stepping
 from ..problem.scene import Scene
 from .dsif import dynamic_dsif
@@ -168,7 +169,7 @@ def _progress(enabled: bool, total: int):
     return show
 
 
-def integrate(scene: Scene, method: EFG, stepping: Stepping | None = None, *,
+def integrate(scene: Scene, method: EFG | MLPG, stepping: Stepping | None = None, *,
               dyn: Dynamics | None = None, state: State | None = None, steps: int | None = None,
               dsif=dynamic_dsif, out=None, progress: bool | None = None,
               critical: tuple[float, float] | None = None) -> DynamicSolution:
@@ -178,7 +179,7 @@ def integrate(scene: Scene, method: EFG, stepping: Stepping | None = None, *,
     ----------
     scene : Scene
         With ``duration`` and ``material.rho``; loads with histories, initial fields.
-    method : EFG
+    method : EFG or MLPG
     stepping : Stepping, optional
         Step, safety factor, output interval, probes (default ``Stepping()``).
     dyn : Dynamics, optional

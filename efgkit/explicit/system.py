@@ -17,6 +17,16 @@ Essential conditions in the explicit scheme follow ``method.bc``:
   system's matrix), which raises omega_max: the stable step falls (docs/theory.md).
 * ``"modified_mls"``: the coefficients of the interpolating boundary nodes are fixed
   (row cross-out, seed 002 after Eq. 27): their inverse mass is set to 0.
+
+MLPG (:class:`~efgkit.MLPG`, :func:`local_dynamics`): K and the loads of the local weak
+forms (:func:`~efgkit.methods.local.local_system`, one load vector per load history), the
+mass ``M_I = rho int_{Omega_s^I} v_I sum_J phi_J dOmega`` over the node's own disc (seed
+002 Eqs. 25-27, the test functions ``v_I``); ``bc="penalty"``: the penalty of the local weak
+form is in K (its prescribed values in ``f_bc``); ``"modified_mls"``: as above;
+``"collocation"``: the rows ``u^h_c(x_I) = ubar_c(x_I)`` at the essential nodes are imposed
+by the projection (the equations of those nodes are kept, with the constraint's reaction,
+instead of replaced as in the static solve). K is not symmetric: docs/theory.md
+("Explicit MLPG") on its spectrum and the energy balance.
 """
 
 from __future__ import annotations
@@ -30,9 +40,11 @@ from scipy.sparse import csc_array, csr_array, diags_array
 from scipy.sparse.linalg import LinearOperator, eigs, eigsh, splu
 
 from ..meshless_solution import MeshlessSolution
-from ..methods.boundary import eliminated_dofs, essential_conditions, loads
+from ..methods.boundary import collocation_rows, eliminated_dofs, essential_conditions, loads
 from ..methods.discretize import Discretization, discretize
 from ..methods.efg import EFG
+from ..methods.local import DEFAULT_MLPG_PENALTY, discretize_local, local_loads, local_system
+from ..methods.mlpg import MLPG
 from ..problem.exact.fields import Field
 from ..problem.scene import Scene
 from ..static import DEFAULT_PENALTY, DEFAULT_STABILISATION
@@ -40,7 +52,7 @@ from ..system.assemble import stiffness
 from ..system.constraints import lagrange, modified_variational, penalty
 from ..system.mass import row_sum_mass
 
-__all__ = ["Dynamics", "Projection", "dynamics", "fit_coefficients", "stable_step"]
+__all__ = ["Dynamics", "Projection", "dynamics", "fit_coefficients", "local_dynamics", "stable_step"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -170,7 +182,7 @@ def fit_coefficients(disc: Discretization, u) -> np.ndarray:
     return c
 
 
-def dynamics(scene: Scene, method: EFG, disc: Discretization | None = None) -> Dynamics:
+def dynamics(scene: Scene, method: EFG | MLPG, disc: Discretization | None = None) -> Dynamics:
     """Assemble ``M u'' + K u = f(t)`` for ``scene`` (module docstring).
 
     Raises
@@ -189,6 +201,8 @@ def dynamics(scene: Scene, method: EFG, disc: Discretization | None = None) -> D
     if scene.material.rho is None:
         raise ValueError(f"scene {scene.name!r}: a dynamic run needs the mass density: give "
                          "Elastic(..., rho=...) (the [material] key rho in a scene file)")
+    if isinstance(method, MLPG):
+        return local_dynamics(scene, method, disc)
     bc_auto = method.bc == "auto"
     method = method.for_scene(scene)
     if bc_auto:
@@ -234,6 +248,55 @@ def dynamics(scene: Scene, method: EFG, disc: Discretization | None = None) -> D
                 lin = lagrange(K, zero, bc, disc.nodes.x, check=False)
                 n = disc.n_dofs
                 projection = Projection.build(csr_array(lin.A[n:, :n]), lin.b[n:], minv)
+    timings["constraints"] = time.perf_counter() - t0
+    return Dynamics(disc, _int32(csr_array(K)), m, minv, F, histories, f_bc, projection, fixed,
+                    fixed_values, method.bc, timings)
+
+
+def local_dynamics(scene: Scene, method: MLPG, disc: Discretization | None = None) -> Dynamics:
+    """``M u'' + K u = f(t)`` of MLPG1 (module docstring; called by :func:`dynamics`).
+
+    Raises
+    ------
+    ValueError
+        An enriched MLPG (its Galerkin enrichment rows have no sub-domain mass yet).
+    """
+    method = method.for_scene(scene)
+    if method.enrichment != "none":
+        raise ValueError(f"method.enrichment={method.enrichment!r}: explicit MLPG runs without "
+                         "tip enrichment only (its enrichment rows are Galerkin rows over the "
+                         "field quadrature and have no lumped mass on the sub-domains); give "
+                         "MLPG(..., enrichment='none') or use EFG")
+    disc = discretize_local(scene, method) if disc is None else disc
+    mat, timings = scene.material, {}
+    t0 = time.perf_counter()
+    alpha = None
+    if method.bc == "penalty" and scene.supports:
+        alpha = (method.penalty or DEFAULT_MLPG_PENALTY) * mat.E / method.spacing
+    K, _ = local_system(disc, alpha)
+    timings["stiffness"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    m = row_sum_mass(disc.shape, disc.points.w, mat.rho, node_x=disc.nodes.x, test=disc.test)
+    timings["mass"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    parts = _load_scenes(scene)
+    F = np.column_stack([local_loads(disc, None, s) for s, _ in parts]) if parts \
+        else np.zeros((disc.n_dofs, 0))
+    histories = tuple(g for _, g in parts)
+    f_bc = np.zeros(disc.n_dofs)
+    if alpha is not None:  # the prescribed values of the penalty term: constant forcing
+        quiet = [replace(c, pressure=0.0) for c in scene.cracks]
+        f_bc = local_loads(disc, alpha, replace(scene, tractions=(), body_force=None, cracks=quiet))
+    timings["loads"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    minv = 1.0 / m
+    projection, fixed, fixed_values = None, np.zeros(0, int), np.zeros(0)
+    if scene.supports and method.bc == "modified_mls":
+        fixed, fixed_values = eliminated_dofs(disc)
+        minv[fixed] = 0.0
+    elif scene.supports and method.bc == "collocation":
+        rows, vals, _ = collocation_rows(disc)
+        projection = Projection.build(csr_array(rows), vals, minv)
     timings["constraints"] = time.perf_counter() - t0
     return Dynamics(disc, _int32(csr_array(K)), m, minv, F, histories, f_bc, projection, fixed,
                     fixed_values, method.bc, timings)
