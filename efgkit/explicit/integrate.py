@@ -39,7 +39,8 @@ from ..problem.scene import Scene
 from .dsif import dynamic_dsif
 from .output import Recorder
 from .result import DynamicSolution
-from .system import Dynamics, dynamics, fit_coefficients, stable_step
+from .spectrum import stable_step
+from .system import Dynamics, dynamics, fit_coefficients
 
 __all__ = ["BLOWUP_FACTOR", "InstabilityError", "State", "integrate", "initial_state", "load_stepping"]
 
@@ -200,7 +201,7 @@ def integrate(scene: Scene, method: EFG | MLPG, stepping: Stepping | None = None
     progress : bool, optional
         Progress bar on stderr (default: only when stderr is a terminal).
     critical : (dt_critical, lambda_max), optional
-        The result of :func:`~efgkit.explicit.system.stable_step` for ``dyn``, to reuse.
+        The result of :func:`~efgkit.explicit.spectrum.stable_step` for ``dyn``, to reuse.
 
     Returns
     -------

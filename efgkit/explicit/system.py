@@ -1,8 +1,9 @@
 """The semi-discrete system ``M u'' + K u = f(t)`` of a dynamic scene, built once.
 
 :func:`dynamics` assembles the stiffness, the lumped mass (:mod:`efgkit.system.mass`),
-the load vectors of each load history, and the essential conditions; :func:`stable_step`
-estimates the critical step ``2 / omega_max`` (seed 002 Eqs. 29-30) from these matrices.
+the load vectors of each load history, and the essential conditions;
+:func:`~efgkit.explicit.spectrum.stable_step` estimates the critical step ``2 / omega_max``
+(seed 002 Eqs. 29-30) from these matrices.
 
 Essential conditions in the explicit scheme follow ``method.bc``:
 
@@ -35,9 +36,8 @@ import time
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-import scipy.linalg
 from scipy.sparse import csc_array, csr_array, diags_array
-from scipy.sparse.linalg import LinearOperator, eigs, eigsh, splu
+from scipy.sparse.linalg import splu
 
 from ..meshless_solution import MeshlessSolution
 from ..methods.boundary import collocation_rows, eliminated_dofs, essential_conditions, loads
@@ -52,7 +52,7 @@ from ..system.assemble import stiffness
 from ..system.constraints import lagrange, modified_variational, penalty
 from ..system.mass import row_sum_mass
 
-__all__ = ["Dynamics", "Projection", "dynamics", "fit_coefficients", "local_dynamics", "stable_step"]
+__all__ = ["Dynamics", "Projection", "dynamics", "fit_coefficients", "local_dynamics"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -309,58 +309,6 @@ def _int32(K: csr_array) -> csr_array:
         return K
     K = csr_array((K.data, K.indices.astype(np.int32), K.indptr.astype(np.int32)), shape=K.shape)
     return K
-
-
-def stable_step(dyn: Dynamics, tol: float = 1e-8, dense_below: int = 400) -> tuple[float, float]:
-    """Critical step ``dt_c = 2 / omega_max`` (seed 002 Eqs. 29-30) and ``omega_max^2``.
-
-    ``omega_max^2`` is the largest eigenvalue of ``K x = lambda M x`` on the admissible
-    motions: of ``A = Q M^-1/2 K M^-1/2 Q`` with ``Q`` the orthogonal projector onto
-    ``G M^-1/2 y = 0`` (Lagrange constraints; built with the factors of ``G M^-1 G^T``)
-    or onto the free coefficients (modified MLS). Lanczos (``eigsh``, largest algebraic,
-    relative accuracy ``tol``) or, for fewer than ``dense_below`` unknowns, a dense
-    eigensolver; for an unsymmetric K (Petrov-Galerkin MLPG) the largest modulus by Arnoldi
-    (``eigs``), where the energy identity of the scheme no longer holds. For meshless shape
-    functions ``h / c`` is not a bound: the matrices decide.
-
-    Returns
-    -------
-    dt_critical : float
-    lambda_max : float
-    """
-    n = dyn.n_dofs
-    s = np.sqrt(dyn.minv)  # 0 on fixed coefficients: they drop out
-    K, P = dyn.K, dyn.projection
-
-    def proj(y):
-        if P is None:
-            return y
-        return y - s * (P.G.T @ P.lu.solve(P.G @ (s * y)))
-
-    def apply(y):
-        y = proj(np.asarray(y).ravel())
-        return proj(s * (K @ (s * y)))
-
-    scale = abs(K).max()
-    symmetric = abs(K - K.T).max() <= 1e-10 * scale  # Petrov-Galerkin (MLPG) K is not
-    if n < dense_below:
-        A = s[:, None] * K.toarray() * s[None, :]
-        if P is not None:
-            Gt = P.G.toarray() * s[None, :]
-            Q = np.eye(n) - Gt.T @ np.linalg.solve(Gt @ Gt.T, Gt)
-            A = Q @ A @ Q
-        lam = float(scipy.linalg.eigvalsh(0.5 * (A + A.T), subset_by_index=[n - 1, n - 1])[0]) \
-            if symmetric else float(np.abs(np.linalg.eigvals(A)).max())
-    else:
-        op = LinearOperator((n, n), matvec=apply, dtype=float)
-        v0 = np.random.default_rng(0).standard_normal(n)
-        lam = float(eigsh(op, k=1, which="LA", tol=tol, v0=v0, return_eigenvectors=False)[0]) \
-            if symmetric else float(np.abs(eigs(op, k=1, which="LM", tol=tol, v0=v0,
-                                                return_eigenvectors=False)[0]))
-    if not (np.isfinite(lam) and lam > 0):
-        raise ValueError(f"the largest eigenvalue of M^-1 K is {lam!r}, not positive: the "
-                         "stiffness or mass is broken (check the material and the quadrature)")
-    return 2.0 / np.sqrt(lam), lam
 
 
 def solution_at(dyn: Dynamics, coeffs: np.ndarray, t: float, info: dict | None = None) -> MeshlessSolution:

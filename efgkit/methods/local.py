@@ -228,8 +228,7 @@ def local_system(disc: Discretization, alpha: float | None) -> tuple[csr_array, 
     """K (n_dofs, n_dofs) and f (n_dofs,) of MLPG1 (module docstring); ``alpha`` the
     penalty factor (force / length^3), None for no penalty term (modified MLS,
     collocation: their essential rows are replaced afterwards)."""
-    scene, mat = disc.scene, disc.scene.material
-    D = mat.D
+    D = disc.scene.material.D
     n2 = 2 * disc.nodes.n
     nd = disc.n_dofs
     K = stiffness(disc.shape, disc.points.w, D, test=disc.test)  # (2 n, n_dofs)
@@ -273,6 +272,7 @@ def _face_pressure(disc: Discretization, scene: Scene) -> np.ndarray:
     m = disc.method
     r_s = disc.local.radii
     tree = cKDTree(disc.nodes.x)
+    side = _face_sides(disc.nodes, _segments(disc.scene)[4])
     for crack in scene.cracks:
         if crack.pressure == 0.0:
             continue
@@ -283,6 +283,9 @@ def _face_pressure(disc: Discretization, scene: Scene) -> np.ndarray:
             d = np.hypot(*(x[q] - disc.nodes.x[node]).T)
             ok = d < r_s[node]
             ok &= _same_side(disc, x[q], node, FACE_OFFSET * m.spacing)
+            # a node split on a crack tests only its own face (it sees the other one along
+            # the crack line): else the two faces' pressures cancel on it
+            ok &= np.einsum("nd,nd->n", side[node], x[q] - disc.nodes.x[node]) >= 0
             q, node = q[ok], node[ok]
             v = disc_test_functions(x[q], node, disc.nodes.x, r_s, derivatives=False).values[:, 0]
             for c in range(2):
