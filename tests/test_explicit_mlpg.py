@@ -1,5 +1,6 @@
 """Explicit dynamics with MLPG1: disc mass, stable step, growing modes, a bar wave, growth."""
 
+import json
 import math
 
 import numpy as np
@@ -7,6 +8,7 @@ import pytest
 import scipy.linalg
 
 from efgkit import EFG, MLPG, Crack, Domain, Elastic, Scene, Support, Traction
+from efgkit.cli import main
 from efgkit.explicit import InstabilityError, dynamics, growth_rate, integrate, stable_step
 from efgkit.growth import Growth, grow
 from efgkit.problem.history import Heaviside, Stepping
@@ -135,3 +137,15 @@ def test_pressurised_crack_loads_each_split_node_on_its_own_face():
     sel = (face != 0) & (x[:, 0] > 0.2) & (x[:, 0] < 0.7)
     assert sel.sum() == 8 and dyn.histories == (None,)
     np.testing.assert_allclose(dyn.F[1::2, 0][sel], face[sel] * 0.8 * p * rs[sel], rtol=4e-4)
+
+
+def test_cli_runs_a_dynamic_mlpg_scene(tmp_path, capsys):
+    from test_explicit import BAR_TOML
+
+    path = tmp_path / "bar.toml"
+    path.write_text(BAR_TOML.replace('name = "bar"', 'name = "bar"\nmethod = "mlpg"').replace(
+        "[efg]\nspacing = 0.5", '[mlpg]\nspacing = 0.25\nbc = "modified_mls"'))
+    assert main(["run", str(path), "--out", str(tmp_path / "out"), "--json"]) == 0
+    rec = json.loads(capsys.readouterr().out)
+    assert rec["method"]["kind"] == "mlpg" and rec["time"]["bc"] == "modified_mls"
+    assert rec["time"]["dt_ratio"] == pytest.approx(0.9) and rec["n_dofs"] == 102
