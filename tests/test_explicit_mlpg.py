@@ -65,7 +65,7 @@ def test_growth_rate_of_the_unsymmetric_stiffness():
     g2, lam2 = growth_rate(dyn, dense_below=0)  # Arnoldi on A - lambda_max I: same mode
     assert g2 == pytest.approx(g, rel=1e-8)  # measured 1e-13
     dtc, lam_max = stable_step(dyn)
-    with pytest.raises(InstabilityError, match="blew up at step"):
+    with pytest.raises(InstabilityError, match="blew up at step .* MLPG1 K has modes that grow at any"):
         integrate(scene, MLPG(spacing=0.25), Stepping(dt=0.98 * dtc), dyn=dyn, steps=2000, dsif=None)
     assert growth_rate(dynamics(scene, EFG(spacing=0.25)))[0] == 0.0
 

@@ -46,6 +46,9 @@ from .system import Dynamics, dynamics, fit_coefficients
 __all__ = ["BLOWUP_FACTOR", "InstabilityError", "State", "integrate", "initial_state", "load_stepping"]
 
 BLOWUP_FACTOR = 1e3  # kinetic energy over the energy put in that means instability
+_MLPG_REMEDY = ("the unsymmetric MLPG1 K has modes that grow at any step "
+                "(efgkit.explicit.growth_rate gives their rate): a shorter run, "
+                "MLPG(weight='quartic') (slower growth), or EFG (docs/theory.md, 'Explicit MLPG')")
 
 
 class InstabilityError(ArithmeticError):
@@ -280,8 +283,10 @@ def integrate(scene: Scene, method: EFG | MLPG, stepping: Stepping | None = None
                 f"the integration blew up at step {n + 1} (t = {(n + 1) * dt:.6g}): the kinetic "
                 f"energy is {ratio:.3g} times the energy put in (initial energy + work done); "
                 f"dt = {dt:.6g} is "
-                f"{dt / dt_crit:.4f} of the estimated critical step {dt_crit:.6g}. Remedy: a "
-                "smaller dt (leave it unset for safety x critical)", n + 1, (n + 1) * dt, ratio)
+                f"{dt / dt_crit:.4f} of the estimated critical step {dt_crit:.6g}. Remedy: "
+                + (_MLPG_REMEDY if getattr(dyn.disc, "test", None) is not None and dt <= dt_crit
+                   else "a smaller dt (leave it unset for safety x critical)"),
+                n + 1, (n + 1) * dt, ratio)
         if (n - n0) % 64 == 0:
             show(n - n0)
     show(n_total)
