@@ -126,7 +126,7 @@ def test_grow_input_errors(tmp_path):
     g = Growth(da=0.1)
     with pytest.raises(ValueError, match="no crack tip to grow"):
         next(grow(plate(()), FEM(h=0.5), g))
-    with pytest.raises(TypeError, match="method must be an EFG or FEM"):
+    with pytest.raises(TypeError, match="method must be an EFG, MLPG or FEM"):
         next(grow(plate((EDGE,)), "efg", g))
     with pytest.raises(TypeError, match="settings must be a Growth"):
         next(grow(plate((EDGE,)), FEM(h=0.5), {"da": 0.1}))

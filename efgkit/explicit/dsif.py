@@ -74,7 +74,7 @@ class TipOperators:
     def __init__(self, dyn, radii=None):
         disc = dyn.disc
         scene = disc.scene
-        x, w = disc.points.x, disc.points.w
+        x, w = disc.post_points.x, disc.post_points.w  # the field quadrature (MLPG: not the discs)
         self.D = scene.material.D
         self.tips = []
         for tip in scene.tips:
@@ -82,7 +82,7 @@ class TipOperators:
             h = float(disc.nodes.radius[k] / disc.method.d_max)  # as MeshlessSolution.tip_spacing
             rs = tuple(float(r) for r in tip_radii(scene, tip, radii, h))
             sel = np.flatnonzero(np.hypot(*(x - tip.x).T) <= max(rs) * (1 + 1e-9))
-            nodal = disc.shape  # rows of the domain points: products restricted to ``sel``
+            nodal = disc.post_shape  # rows of the domain points: products restricted to ``sel``
             ops = [csr_array(g[sel]) for g in nodal.grad_operators()]
             vals = [csr_array(g[sel]) for g in nodal.u_operators()]
             # 1-6 spacings, closer where the free disc about the tip is smaller than 6.7 h

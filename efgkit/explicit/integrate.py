@@ -18,8 +18,9 @@ is conserved exactly (in exact arithmetic; proof in docs/theory.md), and with lo
 ``E~^{n+1/2} - E~^{n-1/2} = f^n . (u^{n+1} - u^{n-1}) / 2``: the time-centred work
 ``W``. The balance ``E~ - W`` is constant up to round-off; its drift relative to the
 largest of ``|E~|`` and ``|W|`` over the run is reported. Instability is detected by the
-kinetic energy outgrowing that scale 1e3-fold (E~ itself stays constant even in an
-unstable run, where it is indefinite).
+kinetic energy outgrowing the energy put in, ``|E~^{1/2} - W^{1/2}| + |W|``, 1e3-fold (E~
+itself stays constant even in an unstable run, where it is indefinite; with the
+unsymmetric K of MLPG a growing mode drags E~ along, so the running scale would not do).
 """
 
 from __future__ import annotations
@@ -33,23 +34,29 @@ import numpy as np
 from numba import njit
 
 from ..methods.efg import EFG
+from ..methods.mlpg import MLPG
 from ..problem.history import Stepping
 from ..problem.scene import Scene
 from .dsif import dynamic_dsif
 from .output import Recorder
 from .result import DynamicSolution
-from .system import Dynamics, dynamics, fit_coefficients, stable_step
+from .spectrum import stable_step
+from .system import Dynamics, dynamics, fit_coefficients
 
 __all__ = ["BLOWUP_FACTOR", "InstabilityError", "State", "integrate", "initial_state", "load_stepping"]
 
-BLOWUP_FACTOR = 1e3  # kinetic energy over the energy scale of the run that means instability
+BLOWUP_FACTOR = 1e3  # kinetic energy over the energy put in that means instability
+_MLPG_REMEDY = ("the unsymmetric MLPG1 K has modes that grow at any step "
+                "(efgkit.explicit.growth_rate gives their rate): a shorter run, "
+                "MLPG(weight='quartic') (slower growth), or EFG (docs/theory.md, 'Explicit MLPG')")
 
 
 class InstabilityError(ArithmeticError):
-    """The time integration blew up (step above the critical step, or broken matrices).
+    """The time integration blew up (step above the critical step, growing modes of an
+    unsymmetric K, or broken matrices).
 
     Attributes ``step`` and ``t``: where it was detected; ``ratio``: kinetic energy over
-    the energy scale of the run."""
+    the energy put in (initial energy + work done)."""
 
     def __init__(self, message: str, step: int, t: float, ratio: float):
         super().__init__(message)
@@ -168,7 +175,7 @@ def _progress(enabled: bool, total: int):
     return show
 
 
-def integrate(scene: Scene, method: EFG, stepping: Stepping | None = None, *,
+def integrate(scene: Scene, method: EFG | MLPG, stepping: Stepping | None = None, *,
               dyn: Dynamics | None = None, state: State | None = None, steps: int | None = None,
               dsif=dynamic_dsif, out=None, progress: bool | None = None,
               critical: tuple[float, float] | None = None) -> DynamicSolution:
@@ -178,7 +185,7 @@ def integrate(scene: Scene, method: EFG, stepping: Stepping | None = None, *,
     ----------
     scene : Scene
         With ``duration`` and ``material.rho``; loads with histories, initial fields.
-    method : EFG
+    method : EFG or MLPG
     stepping : Stepping, optional
         Step, safety factor, output interval, probes (default ``Stepping()``).
     dyn : Dynamics, optional
@@ -199,7 +206,7 @@ def integrate(scene: Scene, method: EFG, stepping: Stepping | None = None, *,
     progress : bool, optional
         Progress bar on stderr (default: only when stderr is a terminal).
     critical : (dt_critical, lambda_max), optional
-        The result of :func:`~efgkit.explicit.system.stable_step` for ``dyn``, to reuse.
+        The result of :func:`~efgkit.explicit.spectrum.stable_step` for ``dyn``, to reuse.
 
     Returns
     -------
@@ -267,13 +274,19 @@ def integrate(scene: Scene, method: EFG, stepping: Stepping | None = None, *,
         scale = max(scale, abs(modified), abs(work))
         if scale > 0:
             drift = max(drift, abs(bal - bal0) / scale)
-        if not (kin <= BLOWUP_FACTOR * scale):  # also catches NaN
-            ratio = kin / scale if scale > 0 else math.inf
+        # the energy put in (initial energy + work done) bounds a stable run's kinetic energy;
+        # not the running scale, which an unsymmetric K's (MLPG) growing mode drags along
+        ref = abs(bal0) + abs(work)
+        if not (kin <= BLOWUP_FACTOR * ref):  # also catches NaN
+            ratio = kin / ref if ref > 0 else math.inf
             raise InstabilityError(
                 f"the integration blew up at step {n + 1} (t = {(n + 1) * dt:.6g}): the kinetic "
-                f"energy is {ratio:.3g} times the energy scale of the run; dt = {dt:.6g} is "
-                f"{dt / dt_crit:.4f} of the estimated critical step {dt_crit:.6g}. Remedy: a "
-                "smaller dt (leave it unset for safety x critical)", n + 1, (n + 1) * dt, ratio)
+                f"energy is {ratio:.3g} times the energy put in (initial energy + work done); "
+                f"dt = {dt:.6g} is "
+                f"{dt / dt_crit:.4f} of the estimated critical step {dt_crit:.6g}. Remedy: "
+                + (_MLPG_REMEDY if getattr(dyn.disc, "test", None) is not None and dt <= dt_crit
+                   else "a smaller dt (leave it unset for safety x critical)"),
+                n + 1, (n + 1) * dt, ratio)
         if (n - n0) % 64 == 0:
             show(n - n0)
     show(n_total)

@@ -81,7 +81,8 @@ class DynamicSolution:
                         **{k: dict(zip(_COLUMNS.get(k, ("KI", "KII")), (v[..., 0], v[..., 1]),
                                        strict=True)) for k, v in h["sifs"].items()}}
         out = {"scene": self.scene.name, "duration": self.scene.duration,
-               "method": {"kind": "efg", **method_record(self.method)}, **self.sizes(),
+               "method": {"kind": getattr(self.method, "kind", "efg"), **method_record(self.method)},
+               **self.sizes(),
                "timings": dict(self.timings), "time": dict(self.info), "history": hist,
                "vtu": None if h["vtu"] is None else str(h["vtu"])}
         return io.jsonable(out)

@@ -1,8 +1,9 @@
 """The semi-discrete system ``M u'' + K u = f(t)`` of a dynamic scene, built once.
 
 :func:`dynamics` assembles the stiffness, the lumped mass (:mod:`efgkit.system.mass`),
-the load vectors of each load history, and the essential conditions; :func:`stable_step`
-estimates the critical step ``2 / omega_max`` (seed 002 Eqs. 29-30) from these matrices.
+the load vectors of each load history, and the essential conditions;
+:func:`~efgkit.explicit.spectrum.stable_step` estimates the critical step ``2 / omega_max``
+(seed 002 Eqs. 29-30) from these matrices.
 
 Essential conditions in the explicit scheme follow ``method.bc``:
 
@@ -17,6 +18,16 @@ Essential conditions in the explicit scheme follow ``method.bc``:
   system's matrix), which raises omega_max: the stable step falls (docs/theory.md).
 * ``"modified_mls"``: the coefficients of the interpolating boundary nodes are fixed
   (row cross-out, seed 002 after Eq. 27): their inverse mass is set to 0.
+
+MLPG (:class:`~efgkit.MLPG`, :func:`local_dynamics`): K and the loads of the local weak
+forms (:func:`~efgkit.methods.local.local_system`, one load vector per load history), the
+mass ``M_I = rho int_{Omega_s^I} v_I sum_J phi_J dOmega`` over the node's own disc (seed
+002 Eqs. 25-27, the test functions ``v_I``); ``bc="penalty"``: the penalty of the local weak
+form is in K (its prescribed values in ``f_bc``); ``"modified_mls"``: as above;
+``"collocation"``: the rows ``u^h_c(x_I) = ubar_c(x_I)`` at the essential nodes are imposed
+by the projection (the equations of those nodes are kept, with the constraint's reaction,
+instead of replaced as in the static solve). K is not symmetric: docs/theory.md
+("Explicit MLPG") on its spectrum and the energy balance.
 """
 
 from __future__ import annotations
@@ -25,14 +36,15 @@ import time
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-import scipy.linalg
 from scipy.sparse import csc_array, csr_array, diags_array
-from scipy.sparse.linalg import LinearOperator, eigs, eigsh, splu
+from scipy.sparse.linalg import splu
 
 from ..meshless_solution import MeshlessSolution
-from ..methods.boundary import eliminated_dofs, essential_conditions, loads
+from ..methods.boundary import collocation_rows, eliminated_dofs, essential_conditions, loads
 from ..methods.discretize import Discretization, discretize
 from ..methods.efg import EFG
+from ..methods.local import DEFAULT_MLPG_PENALTY, discretize_local, local_loads, local_system
+from ..methods.mlpg import MLPG
 from ..problem.exact.fields import Field
 from ..problem.scene import Scene
 from ..static import DEFAULT_PENALTY, DEFAULT_STABILISATION
@@ -40,7 +52,7 @@ from ..system.assemble import stiffness
 from ..system.constraints import lagrange, modified_variational, penalty
 from ..system.mass import row_sum_mass
 
-__all__ = ["Dynamics", "Projection", "dynamics", "fit_coefficients", "stable_step"]
+__all__ = ["Dynamics", "Projection", "dynamics", "fit_coefficients", "local_dynamics"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -170,7 +182,7 @@ def fit_coefficients(disc: Discretization, u) -> np.ndarray:
     return c
 
 
-def dynamics(scene: Scene, method: EFG, disc: Discretization | None = None) -> Dynamics:
+def dynamics(scene: Scene, method: EFG | MLPG, disc: Discretization | None = None) -> Dynamics:
     """Assemble ``M u'' + K u = f(t)`` for ``scene`` (module docstring).
 
     Raises
@@ -189,6 +201,8 @@ def dynamics(scene: Scene, method: EFG, disc: Discretization | None = None) -> D
     if scene.material.rho is None:
         raise ValueError(f"scene {scene.name!r}: a dynamic run needs the mass density: give "
                          "Elastic(..., rho=...) (the [material] key rho in a scene file)")
+    if isinstance(method, MLPG):
+        return local_dynamics(scene, method, disc)
     bc_auto = method.bc == "auto"
     method = method.for_scene(scene)
     if bc_auto:
@@ -239,6 +253,55 @@ def dynamics(scene: Scene, method: EFG, disc: Discretization | None = None) -> D
                     fixed_values, method.bc, timings)
 
 
+def local_dynamics(scene: Scene, method: MLPG, disc: Discretization | None = None) -> Dynamics:
+    """``M u'' + K u = f(t)`` of MLPG1 (module docstring; called by :func:`dynamics`).
+
+    Raises
+    ------
+    ValueError
+        An enriched MLPG (its Galerkin enrichment rows have no sub-domain mass yet).
+    """
+    method = method.for_scene(scene)
+    if method.enrichment != "none":
+        raise ValueError(f"method.enrichment={method.enrichment!r}: explicit MLPG runs without "
+                         "tip enrichment only (its enrichment rows are Galerkin rows over the "
+                         "field quadrature and have no lumped mass on the sub-domains); give "
+                         "MLPG(..., enrichment='none') or use EFG")
+    disc = discretize_local(scene, method) if disc is None else disc
+    mat, timings = scene.material, {}
+    t0 = time.perf_counter()
+    alpha = None
+    if method.bc == "penalty" and scene.supports:
+        alpha = (method.penalty or DEFAULT_MLPG_PENALTY) * mat.E / method.spacing
+    K, _ = local_system(disc, alpha)
+    timings["stiffness"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    m = row_sum_mass(disc.shape, disc.points.w, mat.rho, node_x=disc.nodes.x, test=disc.test)
+    timings["mass"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    parts = _load_scenes(scene)
+    F = np.column_stack([local_loads(disc, None, s) for s, _ in parts]) if parts \
+        else np.zeros((disc.n_dofs, 0))
+    histories = tuple(g for _, g in parts)
+    f_bc = np.zeros(disc.n_dofs)
+    if alpha is not None:  # the prescribed values of the penalty term: constant forcing
+        quiet = [replace(c, pressure=0.0) for c in scene.cracks]
+        f_bc = local_loads(disc, alpha, replace(scene, tractions=(), body_force=None, cracks=quiet))
+    timings["loads"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    minv = 1.0 / m
+    projection, fixed, fixed_values = None, np.zeros(0, int), np.zeros(0)
+    if scene.supports and method.bc == "modified_mls":
+        fixed, fixed_values = eliminated_dofs(disc)
+        minv[fixed] = 0.0
+    elif scene.supports and method.bc == "collocation":
+        rows, vals, _ = collocation_rows(disc)
+        projection = Projection.build(csr_array(rows), vals, minv)
+    timings["constraints"] = time.perf_counter() - t0
+    return Dynamics(disc, _int32(csr_array(K)), m, minv, F, histories, f_bc, projection, fixed,
+                    fixed_values, method.bc, timings)
+
+
 def _int32(K: csr_array) -> csr_array:
     """K with 32-bit column indices when they fit: ``K @ u`` reads a third less memory
     (the product bounds the step)."""
@@ -246,58 +309,6 @@ def _int32(K: csr_array) -> csr_array:
         return K
     K = csr_array((K.data, K.indices.astype(np.int32), K.indptr.astype(np.int32)), shape=K.shape)
     return K
-
-
-def stable_step(dyn: Dynamics, tol: float = 1e-8, dense_below: int = 400) -> tuple[float, float]:
-    """Critical step ``dt_c = 2 / omega_max`` (seed 002 Eqs. 29-30) and ``omega_max^2``.
-
-    ``omega_max^2`` is the largest eigenvalue of ``K x = lambda M x`` on the admissible
-    motions: of ``A = Q M^-1/2 K M^-1/2 Q`` with ``Q`` the orthogonal projector onto
-    ``G M^-1/2 y = 0`` (Lagrange constraints; built with the factors of ``G M^-1 G^T``)
-    or onto the free coefficients (modified MLS). Lanczos (``eigsh``, largest algebraic,
-    relative accuracy ``tol``) or, for fewer than ``dense_below`` unknowns, a dense
-    eigensolver; for an unsymmetric K (Petrov-Galerkin MLPG) the largest modulus by Arnoldi
-    (``eigs``), where the energy identity of the scheme no longer holds. For meshless shape
-    functions ``h / c`` is not a bound: the matrices decide.
-
-    Returns
-    -------
-    dt_critical : float
-    lambda_max : float
-    """
-    n = dyn.n_dofs
-    s = np.sqrt(dyn.minv)  # 0 on fixed coefficients: they drop out
-    K, P = dyn.K, dyn.projection
-
-    def proj(y):
-        if P is None:
-            return y
-        return y - s * (P.G.T @ P.lu.solve(P.G @ (s * y)))
-
-    def apply(y):
-        y = proj(np.asarray(y).ravel())
-        return proj(s * (K @ (s * y)))
-
-    scale = abs(K).max()
-    symmetric = abs(K - K.T).max() <= 1e-10 * scale  # Petrov-Galerkin (MLPG) K is not
-    if n < dense_below:
-        A = s[:, None] * K.toarray() * s[None, :]
-        if P is not None:
-            Gt = P.G.toarray() * s[None, :]
-            Q = np.eye(n) - Gt.T @ np.linalg.solve(Gt @ Gt.T, Gt)
-            A = Q @ A @ Q
-        lam = float(scipy.linalg.eigvalsh(0.5 * (A + A.T), subset_by_index=[n - 1, n - 1])[0]) \
-            if symmetric else float(np.abs(np.linalg.eigvals(A)).max())
-    else:
-        op = LinearOperator((n, n), matvec=apply, dtype=float)
-        v0 = np.random.default_rng(0).standard_normal(n)
-        lam = float(eigsh(op, k=1, which="LA", tol=tol, v0=v0, return_eigenvectors=False)[0]) \
-            if symmetric else float(np.abs(eigs(op, k=1, which="LM", tol=tol, v0=v0,
-                                                return_eigenvectors=False)[0]))
-    if not (np.isfinite(lam) and lam > 0):
-        raise ValueError(f"the largest eigenvalue of M^-1 K is {lam!r}, not positive: the "
-                         "stiffness or mass is broken (check the material and the quadrature)")
-    return 2.0 / np.sqrt(lam), lam
 
 
 def solution_at(dyn: Dynamics, coeffs: np.ndarray, t: float, info: dict | None = None) -> MeshlessSolution:

@@ -37,6 +37,7 @@ from ..fem.model import FEM, solve_fem
 from ..fracture.criteria import critical_load_factor, delta_k, hoop_stress, paris_cycles, paris_rate
 from ..methods.discretize import discretize
 from ..methods.efg import EFG
+from ..methods.mlpg import MLPG
 from ..problem.scene import Scene
 from ..static import solve
 from .extend import advance
@@ -127,7 +128,7 @@ class GrowthState:
 
 def rediscretize(scene: Scene, method, previous=None, incremental: bool = False):
     """The discretisation of ``scene`` for a growth step (None for FEM, which remeshes
-    inside :func:`solve_fem`).
+    inside :func:`solve_fem`, and for MLPG, which :func:`efgkit.solve` rebuilds each step).
 
     Without ``incremental`` a full rebuild (:func:`efgkit.discretize`); with it an
     :class:`~efgkit.growth.incremental.Assembled` (discretisation, K and f) updated from
@@ -159,7 +160,7 @@ def growth_method(method, settings: Growth):
 def _solve(scene, method, disc):
     if isinstance(disc, Assembled):
         return solve(scene, method, disc.disc, K=disc.K, f=disc.f)
-    if isinstance(method, EFG):
+    if isinstance(method, (EFG, MLPG)):  # MLPG: efgkit.solve builds its local system
         return solve(scene, method, disc)
     return solve_fem(scene, method)
 
@@ -167,8 +168,8 @@ def _solve(scene, method, disc):
 def _check(scene, method, settings, start):
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a Scene, got {type(scene).__name__}")
-    if not isinstance(method, (EFG, FEM)):
-        raise TypeError(f"method must be an EFG or FEM description, got {type(method).__name__}")
+    if not isinstance(method, (EFG, MLPG, FEM)):
+        raise TypeError(f"method must be an EFG, MLPG or FEM description, got {type(method).__name__}")
     if not isinstance(settings, Growth):
         raise TypeError(f"settings must be a Growth description, got {type(settings).__name__}")
     if not scene.is_static:
@@ -189,7 +190,7 @@ def grow(scene: Scene, method, settings: Growth, start: GrowthState | None = Non
     ----------
     scene : Scene
         Static scene with at least one tip; its loads are the reference (maximum) load.
-    method : EFG or FEM
+    method : EFG, MLPG or FEM
     settings : Growth
     start : GrowthState, optional
         Restart: the cracks and counters saved after an earlier step

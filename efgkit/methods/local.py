@@ -50,7 +50,7 @@ from .discretize import (
 )
 from .mlpg import MLPG
 
-__all__ = ["LocalBoundary", "discretize_local", "local_system", "DEFAULT_MLPG_PENALTY"]
+__all__ = ["LocalBoundary", "discretize_local", "local_loads", "local_system", "DEFAULT_MLPG_PENALTY"]
 
 DEFAULT_MLPG_PENALTY = 1e3  # alpha h / E of the penalty term in the local weak form
 
@@ -69,6 +69,7 @@ class LocalBoundary:
     value: np.ndarray
     traction: np.ndarray
     radii: np.ndarray
+    edge: np.ndarray | None = None  # (m,) index of each point's edge in scene.domain.edges()
 
 
 def test_radii(nodes, method: MLPG) -> np.ndarray:
@@ -155,12 +156,8 @@ def discretize_local(scene: Scene, method: MLPG) -> Discretization:
 def _local_boundary(scene, approx, nodes, r_s, bpts, edge_of, edges) -> LocalBoundary:
     """Prescribed components and tractions at the boundary pieces of the sub-domains."""
     x, mat = bpts.x, scene.material
-    fixed, value, traction = np.zeros((bpts.n, 2), bool), np.zeros((bpts.n, 2)), np.zeros((bpts.n, 2))
+    fixed, value = np.zeros((bpts.n, 2), bool), np.zeros((bpts.n, 2))
     names = np.array([e.name for e in edges])
-    for tr in scene.tractions:
-        sel = names[edge_of] == tr.edge if isinstance(tr.edge, str) else np.asarray(tr.edge(x), bool)
-        if sel.any():
-            traction[sel] += evaluate_vector(tr.t, x[sel], bpts.normal[sel], mat)
     for sup in scene.supports:
         sel = names[edge_of] == sup.edge if isinstance(sup.edge, str) else np.asarray(sup.edge(x), bool)
         for c, v in enumerate((sup.ux, sup.uy)):
@@ -168,9 +165,46 @@ def _local_boundary(scene, approx, nodes, r_s, bpts, edge_of, edges) -> LocalBou
                 new = sel & ~fixed[:, c]  # a point on two supports: the first wins
                 value[new, c] = evaluate_component(v, x[new], c, mat)
                 fixed[new, c] = True
-    traction = np.where(fixed, 0.0, traction)
+    traction = _tractions(scene, bpts, edge_of, names, fixed)
     test = disc_test_functions(x, bpts.owner, nodes.x, r_s, derivatives=False)
-    return LocalBoundary(bpts, test, approx.shape(x), fixed, value, traction, r_s)
+    return LocalBoundary(bpts, test, approx.shape(x), fixed, value, traction, r_s, edge_of)
+
+
+def _tractions(scene, bpts, edge_of, names, fixed) -> np.ndarray:
+    """The traction tbar (m, 2) of ``scene.tractions`` at the boundary pieces, 0 where the
+    component is prescribed."""
+    x, traction = bpts.x, np.zeros((bpts.n, 2))
+    for tr in scene.tractions:
+        sel = names[edge_of] == tr.edge if isinstance(tr.edge, str) else np.asarray(tr.edge(x), bool)
+        if sel.any():
+            traction[sel] += evaluate_vector(tr.t, x[sel], bpts.normal[sel], scene.material)
+    return np.where(fixed, 0.0, traction)
+
+
+def local_loads(disc: Discretization, alpha: float | None, scene: Scene | None = None) -> np.ndarray:
+    """The nodal rows of the MLPG1 load vector, shape (2 n_nodes,) (module docstring):
+    ``int_{Gamma_st^I} v_I tbar + int_{Omega_s^I} v_I b`` (+ the crack-face pressure, + the
+    penalty term ``alpha int_{Gamma_su^I} v_I ubar`` when ``alpha`` is given) with the loads
+    of ``scene`` (default ``disc.scene``; another scene on the same domain, supports and
+    cracks, e.g. one load history of a dynamic scene) on ``disc``'s sub-domains."""
+    scene = disc.scene if scene is None else scene
+    mat, loc = scene.material, disc.local
+    n2 = 2 * disc.nodes.n
+    f = np.zeros(n2)
+    traction = loc.traction
+    if scene is not disc.scene:
+        names = np.array([e.name for e in scene.domain.edges()])
+        traction = _tractions(scene, loc.points, loc.edge, names, loc.fixed)
+    for c in range(2):
+        if alpha is not None:
+            f += _rows(loc.test, loc.points.w, c, n2, loc.fixed[:, c].astype(float)) @ (
+                alpha * loc.value[:, c])
+        f += _rows(loc.test, loc.points.w, c, n2) @ traction[:, c]
+    if scene.body_force is not None:
+        b = evaluate_vector(scene.body_force, disc.points.x, np.zeros_like(disc.points.x), mat)
+        for c in range(2):
+            f += _rows(disc.test, disc.points.w, c, n2) @ b[:, c]
+    return f + _face_pressure(disc, scene)
 
 
 def _rows(test: Shape, w: np.ndarray, comp: int, n_rows: int, scale=None) -> csr_array:
@@ -194,8 +228,7 @@ def local_system(disc: Discretization, alpha: float | None) -> tuple[csr_array, 
     """K (n_dofs, n_dofs) and f (n_dofs,) of MLPG1 (module docstring); ``alpha`` the
     penalty factor (force / length^3), None for no penalty term (modified MLS,
     collocation: their essential rows are replaced afterwards)."""
-    scene, mat = disc.scene, disc.scene.material
-    D = mat.D
+    D = disc.scene.material.D
     n2 = 2 * disc.nodes.n
     nd = disc.n_dofs
     K = stiffness(disc.shape, disc.points.w, D, test=disc.test)  # (2 n, n_dofs)
@@ -211,14 +244,8 @@ def local_system(disc: Discretization, alpha: float | None) -> tuple[csr_array, 
         term = -T[c]
         if alpha is not None:
             term = term + alpha * U[c]
-            f[:n2] += Rs @ (alpha * loc.value[:, c])
         K = K + _pad(Rs @ term, nd)
-        f[:n2] += _rows(loc.test, bp.w, c, n2) @ loc.traction[:, c]
-    if scene.body_force is not None:
-        b = evaluate_vector(scene.body_force, disc.points.x, np.zeros_like(disc.points.x), mat)
-        for c in range(2):
-            f[:n2] += _rows(disc.test, disc.points.w, c, n2) @ b[:, c]
-    f[:n2] += _face_pressure(disc)
+    f[:n2] = local_loads(disc, alpha)
     K = csr_array(K)
     if nd > n2:
         Ke, fe = _enrichment_rows(disc, alpha)
@@ -233,7 +260,7 @@ def _pad(A, n_cols) -> csr_array:
         [A, csr_array((A.shape[0], n_cols - A.shape[1]))], format="csr"))
 
 
-def _face_pressure(disc: Discretization) -> np.ndarray:
+def _face_pressure(disc: Discretization, scene: Scene) -> np.ndarray:
     """int_{crack faces in Omega_s^I} v_I p n dGamma: pressurised crack faces are loaded
     parts of the sub-domain boundaries (the Gauss rules of
     :func:`~efgkit.methods.boundary.crack_face_loads`, tested by every disc holding a point
@@ -245,7 +272,8 @@ def _face_pressure(disc: Discretization) -> np.ndarray:
     m = disc.method
     r_s = disc.local.radii
     tree = cKDTree(disc.nodes.x)
-    for crack in disc.scene.cracks:
+    side = _face_sides(disc.nodes, _segments(disc.scene)[4])
+    for crack in scene.cracks:
         if crack.pressure == 0.0:
             continue
         for x, w, t in crack_face_loads(crack, m.spacing, max(m.order, 2)):
@@ -255,6 +283,9 @@ def _face_pressure(disc: Discretization) -> np.ndarray:
             d = np.hypot(*(x[q] - disc.nodes.x[node]).T)
             ok = d < r_s[node]
             ok &= _same_side(disc, x[q], node, FACE_OFFSET * m.spacing)
+            # a node split on a crack tests only its own face (it sees the other one along
+            # the crack line): else the two faces' pressures cancel on it
+            ok &= np.einsum("nd,nd->n", side[node], x[q] - disc.nodes.x[node]) >= 0
             q, node = q[ok], node[ok]
             v = disc_test_functions(x[q], node, disc.nodes.x, r_s, derivatives=False).values[:, 0]
             for c in range(2):

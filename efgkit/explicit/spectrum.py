@@ -1,0 +1,123 @@
+"""The spectrum of ``M^-1 K``: the critical step of central differences and growing modes.
+
+:func:`stable_step` gives ``dt_c = 2 / omega_max`` (seed 002 Eqs. 29-30) from the assembled
+matrices of :func:`~efgkit.explicit.system.dynamics`; :func:`growth_rate` the rate of the
+fastest-growing mode of an unsymmetric (MLPG1) K, which no step size removes.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.linalg
+from scipy.sparse.linalg import LinearOperator, eigs, eigsh
+
+from .system import Dynamics
+
+__all__ = ["growth_rate", "stable_step"]
+
+
+def _operator(dyn: Dynamics):
+    """``A = Q M^-1/2 K M^-1/2 Q`` as a matvec, whether K is symmetric, and a dense builder."""
+    n = dyn.n_dofs
+    s = np.sqrt(dyn.minv)  # 0 on fixed coefficients: they drop out
+    K, P = dyn.K, dyn.projection
+
+    def proj(y):
+        if P is None:
+            return y
+        return y - s * (P.G.T @ P.lu.solve(P.G @ (s * y)))
+
+    def apply(y):
+        y = proj(np.asarray(y).ravel())
+        return proj(s * (K @ (s * y)))
+
+    def dense():
+        A = s[:, None] * K.toarray() * s[None, :]
+        if P is not None:
+            Gt = P.G.toarray() * s[None, :]
+            Q = np.eye(n) - Gt.T @ np.linalg.solve(Gt @ Gt.T, Gt)
+            A = Q @ A @ Q
+        return A
+
+    symmetric = abs(K - K.T).max() <= 1e-10 * abs(K).max()  # Petrov-Galerkin (MLPG) K is not
+    return apply, symmetric, dense
+
+
+def stable_step(dyn: Dynamics, tol: float = 1e-8, dense_below: int = 400) -> tuple[float, float]:
+    """Critical step ``dt_c = 2 / omega_max`` (seed 002 Eqs. 29-30) and ``omega_max^2``.
+
+    ``omega_max^2`` is the largest eigenvalue of ``K x = lambda M x`` on the admissible
+    motions: of ``A = Q M^-1/2 K M^-1/2 Q`` with ``Q`` the orthogonal projector onto
+    ``G M^-1/2 y = 0`` (Lagrange constraints; built with the factors of ``G M^-1 G^T``)
+    or onto the free coefficients (modified MLS). Lanczos (``eigsh``, largest algebraic,
+    relative accuracy ``tol``) or, for fewer than ``dense_below`` unknowns, a dense
+    eigensolver; for an unsymmetric K (Petrov-Galerkin MLPG) the largest modulus by Arnoldi
+    (``eigs``), where the energy identity of the scheme no longer holds and modes may grow
+    at any step (:func:`growth_rate`). For meshless shape functions ``h / c`` is not a
+    bound: the matrices decide.
+
+    Returns
+    -------
+    dt_critical : float
+    lambda_max : float
+    """
+    n = dyn.n_dofs
+    apply, symmetric, dense = _operator(dyn)
+    if n < dense_below:
+        A = dense()
+        lam = float(scipy.linalg.eigvalsh(0.5 * (A + A.T), subset_by_index=[n - 1, n - 1])[0]) \
+            if symmetric else float(np.abs(np.linalg.eigvals(A)).max())
+    else:
+        op = LinearOperator((n, n), matvec=apply, dtype=float)
+        v0 = np.random.default_rng(0).standard_normal(n)
+        lam = float(eigsh(op, k=1, which="LA", tol=tol, v0=v0, return_eigenvectors=False)[0]) \
+            if symmetric else float(np.abs(eigs(op, k=1, which="LM", tol=tol, v0=v0,
+                                                return_eigenvectors=False)[0]))
+    if not (np.isfinite(lam) and lam > 0):
+        raise ValueError(f"the largest eigenvalue of M^-1 K is {lam!r}, not positive: the "
+                         "stiffness or mass is broken (check the material and the quadrature)")
+    return 2.0 / np.sqrt(lam), lam
+
+
+def growth_rate(dyn: Dynamics, lam_max: float | None = None, k: int = 6,
+                dense_below: int = 400) -> tuple[float, complex]:
+    """Growth rate of the fastest-growing mode of ``M u'' + K u = 0``, and its eigenvalue.
+
+    A mode ``exp(i omega t)`` with ``omega^2 = lambda`` an eigenvalue of ``M^-1 K`` (on the
+    admissible motions) grows like ``exp(gamma t)`` with ``gamma = Im sqrt(lambda)`` (the
+    root with Im >= 0): 0 for real ``lambda >= 0``, ``sqrt(-lambda)`` for real negative
+    ``lambda``, positive for complex ``lambda``. A symmetric positive semi-definite K (EFG)
+    has none; the unsymmetric MLPG1 K has some (docs/theory.md, "Explicit MLPG"): central
+    differences then grow like ``exp(gamma t)`` at every step size, and a run of duration
+    T amplifies such a mode ``exp(gamma T)`` times.
+
+    All eigenvalues for fewer than ``dense_below`` unknowns; else the ``k`` eigenvalues
+    farthest from ``lam_max`` (Arnoldi on ``A - lam_max I``: the leftmost part of the
+    spectrum), an estimate that can miss a complex pair with a large real part. Eigenvalues
+    below ``1e-10 lam_max`` in modulus (the rigid motions, round-off) count as 0.
+
+    Returns
+    -------
+    gamma : float
+        1 / time.
+    lam : complex
+        The eigenvalue of M^-1 K it comes from.
+    """
+    n = dyn.n_dofs
+    apply, symmetric, dense = _operator(dyn)
+    if n < dense_below:
+        ev = np.linalg.eigvalsh(0.5 * (dense() + dense().T)) if symmetric else np.linalg.eigvals(dense())
+    else:
+        lam_max = stable_step(dyn)[1] if lam_max is None else lam_max
+        op = LinearOperator((n, n), matvec=lambda y: apply(y) - lam_max * np.asarray(y).ravel(),
+                            dtype=float)
+        v0 = np.random.default_rng(1).standard_normal(n)
+        solver = eigsh if symmetric else eigs
+        ev = solver(op, k=min(k, n - 2), which="LM", tol=1e-8, v0=v0,
+                    return_eigenvectors=False) + lam_max
+    ev = np.asarray(ev, dtype=complex)
+    lam_max = np.abs(ev).max() if lam_max is None else lam_max
+    g = np.sqrt(ev).imag  # principal root: Im >= 0
+    g[np.abs(ev) <= 1e-10 * lam_max] = 0.0  # the rigid motions' round-off
+    i = int(np.argmax(g))
+    return float(g[i]), complex(ev[i])
