@@ -72,7 +72,7 @@ class LocalBoundary:
     edge: np.ndarray | None = None  # (m,) index of each point's edge in scene.domain.edges()
 
 
-def test_radii(nodes, method: MLPG) -> np.ndarray:
+def disc_radii(nodes, method: MLPG) -> np.ndarray:
     """r_sI = test_radius c_I with c_I = d_mI / d_max (the spacing on a regular grid), (n,)."""
     return method.test_radius * nodes.radius / method.d_max
 
@@ -117,7 +117,7 @@ def discretize_local(scene: Scene, method: MLPG) -> Discretization:
     timings = {}
     t0 = time.perf_counter()
     nodes = generate_nodes(scene.domain, method, scene.cracks)
-    r_s = test_radii(nodes, method)
+    r_s = disc_radii(nodes, method)
     interpolate = None
     if method.bc == "modified_mls":
         interpolate = essential_nodes(scene, nodes, method.spacing)
