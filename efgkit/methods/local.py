@@ -114,6 +114,14 @@ def discretize_local(scene: Scene, method: MLPG) -> Discretization:
     if not isinstance(method, MLPG):
         raise TypeError(f"method must be an MLPG description, got {type(method).__name__}")
     method = method.for_scene(scene)
+    if scene.cracks and method.basis == "linear":
+        raise ValueError(
+            f"MLPG with basis='linear' on a cracked scene ({scene.name!r}) gives wrong stress "
+            "intensity factors (issue 14): K_I 1012 against 1259 on the SENT of seed 001 "
+            "(spacing 0.5), and K_I from -133 to 30 against 34.0 with K_II of either sign on "
+            "the shear edge crack of seed 003 (spacings 0.3-0.5), with or without enrichment; "
+            "the linear basis is also ~25 % too stiff in bending (docs/theory.md, MLPG1). Use "
+            "basis='quadratic' with d_max >= 3, or the EFG method")
     timings = {}
     t0 = time.perf_counter()
     nodes = generate_nodes(scene.domain, method, scene.cracks)
