@@ -106,3 +106,18 @@ def test_shear_edge_crack_plain():
     # Wilson 1969 via seed 003 Sect. 5.6.2: K_I = 34.0 (the plain variant has no singular
     # term: a 10 % band, as EFG's plain variant reaches at this spacing)
     assert abs(k.KI - 34.0) < 0.1 * 34.0
+
+
+def test_quadrature_fields_on_field_quadrature():
+    # MLPG's discs overlap: the J-integral fields live on the background cells (post_points);
+    # quadrature_fields paired the disc points' x, w with the cells' gradients (issue 14)
+    from efgkit import Domain, Elastic
+
+    scene = Scene(Domain.rectangle(0, 0, 2, 1), Elastic(1000.0, 0.25, "stress"),
+                  supports=(Support("left", ux=0.0), Support("bottom", uy=0.0)),
+                  tractions=(Traction("right", (1.0, 0.0)),))
+    sol = solve(scene, MLPG(spacing=0.25))
+    x, w, stress, grad = sol.quadrature_fields()
+    assert len(x) == len(w) == len(stress) == len(grad) == sol.disc.post_points.n
+    np.testing.assert_allclose(w.sum(), 2.0, rtol=1e-12)  # the body's area
+    np.testing.assert_allclose(stress[:, 0], 1.0, rtol=1e-6)  # sigma_xx = 1 (closed form)
