@@ -95,8 +95,8 @@ class MeshlessSolution(Solution):
     def quadrature_fields(self):
         """``(x (n, 2), w (n,), stress (n, 3), grad_u (n, 2, 2))`` at the domain quadrature points."""
         grad = self.gradient()
-        return (self.disc.points.x, self.disc.points.w,
-                strain_from_gradient(grad) @ self.scene.material.D.T, grad)
+        pts = self.disc.post_points  # MLPG: the background cells (its discs overlap)
+        return (pts.x, pts.w, strain_from_gradient(grad) @ self.scene.material.D.T, grad)
 
     def tip_spacing(self, tip) -> float:
         """The nodal spacing at a tip: c_I = d_mI / d_max of the node nearest to it."""

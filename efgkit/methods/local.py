@@ -36,7 +36,7 @@ from ..problem.crack import FACE_OFFSET
 from ..problem.scene import Scene, evaluate_component, evaluate_vector
 from ..quadrature.boundary import boundary_points
 from ..quadrature.cells import cell_points
-from ..quadrature.discs import boundary_pieces, disc_points, edge_segments, sectors
+from ..quadrature.discs import boundary_pieces, disc_points, edge_segments, sectors, visible
 from ..quadrature.rules import Points
 from ..system.assemble import stiffness
 from .boundary import crack_face_loads
@@ -50,7 +50,8 @@ from .discretize import (
 )
 from .mlpg import MLPG
 
-__all__ = ["LocalBoundary", "discretize_local", "local_loads", "local_system", "DEFAULT_MLPG_PENALTY"]
+__all__ = ["LocalBoundary", "discretize_local", "local_loads", "local_system", "shadow_pieces",
+           "DEFAULT_MLPG_PENALTY"]
 
 DEFAULT_MLPG_PENALTY = 1e3  # alpha h / E of the penalty term in the local weak form
 
@@ -70,11 +71,14 @@ class LocalBoundary:
     traction: np.ndarray
     radii: np.ndarray
     edge: np.ndarray | None = None  # (m,) index of each point's edge in scene.domain.edges()
+    shadow: tuple | None = None
 
 
 def disc_radii(nodes, method: MLPG) -> np.ndarray:
     """r_sI = test_radius c_I with c_I = d_mI / d_max (the spacing on a regular grid), (n,)."""
     return method.test_radius * nodes.radius / method.d_max
+
+
 
 
 def _segments(scene: Scene):
@@ -114,6 +118,14 @@ def discretize_local(scene: Scene, method: MLPG) -> Discretization:
     if not isinstance(method, MLPG):
         raise TypeError(f"method must be an MLPG description, got {type(method).__name__}")
     method = method.for_scene(scene)
+    if scene.cracks and method.basis == "linear":
+        raise ValueError(
+            f"MLPG with basis='linear' on a cracked scene ({scene.name!r}) gives wrong stress "
+            "intensity factors (issue 14): K_I 1012 against 1259 on the SENT of seed 001 "
+            "(spacing 0.5), and K_I from -133 to 30 against 34.0 with K_II of either sign on "
+            "the shear edge crack of seed 003 (spacings 0.3-0.5), with or without enrichment; "
+            "the linear basis is also ~25 % too stiff in bending (docs/theory.md, MLPG1). Use "
+            "basis='quadratic' with d_max >= 3, or the EFG method")
     timings = {}
     t0 = time.perf_counter()
     nodes = generate_nodes(scene.domain, method, scene.cracks)
@@ -148,6 +160,12 @@ def discretize_local(scene: Scene, method: MLPG) -> Discretization:
     shape = approx.shape(points.x)
     test = disc_test_functions(points.x, points.owner, nodes.x, r_s)
     local = _local_boundary(scene, approx, nodes, r_s, bpts, edge_of, edges)
+    sh = shadow_pieces(scene, nodes, r_s, cseg, method.boundary_order)
+    if sh.n:
+        local = LocalBoundary(local.points, local.test, local.trial, local.fixed, local.value,
+                              local.traction, local.radii,
+                              (sh, disc_test_functions(sh.x, sh.owner, nodes.x, r_s, derivatives=False),
+                               approx.shape(sh.x)))
     timings["shape"] = time.perf_counter() - t0
     return Discretization(scene, method, nodes, points, shape, approx, timings, test=test,
                           field_points=cells, local=local)
@@ -207,6 +225,44 @@ def local_loads(disc: Discretization, alpha: float | None, scene: Scene | None =
     return f + _face_pressure(disc, scene)
 
 
+def shadow_pieces(scene: Scene, nodes, r_s: np.ndarray, cseg: np.ndarray, order: int) -> Points:
+    """Gauss points (x, w, owner node, outward normal) on the shadow rays inside the discs.
+
+    A disc that holds a crack tip is clipped to the part visible from its node, so its
+    boundary holds the segment of the ray from x_I through the tip to the circle: an
+    interior line of the body, on which the traction sigma(u) n is not zero. The local
+    weak form (seed 002 Eq. 21, integrated by parts over the visible part) needs
+    -int v_I sigma(u) n there; without it a disc next to a tip misses a term of order
+    sigma h and the uniaxial patch test of a cracked plate fails (issue 14). The points
+    are moved 1e-7 r_sI into the visible side (on the ray itself the visibility of x_I's
+    own trial function is a ray-casting tie).
+    """
+    tips = np.array([t.x for t in scene.tips]).reshape(-1, 2)
+    empty = Points(np.zeros((0, 2)), np.zeros(0), np.zeros(0, int), np.zeros((0, 2)))
+    if not len(tips) or not len(cseg):
+        return empty
+    d = np.hypot(nodes.x[:, None, 0] - tips[None, :, 0], nodes.x[:, None, 1] - tips[None, :, 1])
+    node, tip = np.nonzero((d < r_s[:, None]) & (d > 1e-9 * r_s[:, None]))
+    if not len(node):
+        return empty
+    e = (tips[tip] - nodes.x[node]) / d[node, tip][:, None]
+    perp = np.column_stack([-e[:, 1], e[:, 0]])
+    length = r_s[node] - d[node, tip]
+    probe = tips[tip] + 0.5 * length[:, None] * e
+    eps = 1e-3 * r_s[node][:, None]
+    vis = np.column_stack([visible(nodes.x[node], probe + s * eps * perp, cseg, 1e-9) for s in (1.0, -1.0)])
+    one = vis[:, 0] != vis[:, 1]  # exactly one side hidden: the ray bounds the visible part
+    hidden = np.where(vis[:, 0], -1.0, 1.0)[:, None] * perp  # outward normal of Omega_s
+    g, gw = np.polynomial.legendre.leggauss(order)
+    t = 0.5 * (g + 1.0)
+    k = np.repeat(np.flatnonzero(one), order)
+    tt = np.tile(t, one.sum())
+    x = (tips[tip[k]] + (tt * length[k])[:, None] * e[k] - 1e-7 * r_s[node[k]][:, None] * hidden[k])
+    w = np.tile(0.5 * gw, one.sum()) * length[k]
+    inside = np.asarray(scene.domain.contains(x), bool)
+    return Points(x[inside], w[inside], node[k][inside], hidden[k][inside])
+
+
 def _rows(test: Shape, w: np.ndarray, comp: int, n_rows: int, scale=None) -> csr_array:
     """Sparse (n_rows, n_points): entry (2 owner + comp, q) = w_q v_q (times ``scale (n,)``)."""
     owner = test.neighbours.idx[:, 0]
@@ -245,6 +301,11 @@ def local_system(disc: Discretization, alpha: float | None) -> tuple[csr_array, 
         if alpha is not None:
             term = term + alpha * U[c]
         K = K + _pad(Rs @ term, nd)
+    if loc.shadow is not None:  # -int v_I t(u) on the shadow rays (shadow_pieces)
+        sp, sv, su = loc.shadow
+        Ts = _traction_ops(su, sp.normal, D)
+        for c in range(2):
+            K = K + _pad(_rows(sv, sp.w, c, n2) @ (-Ts[c]), nd)
     f[:n2] = local_loads(disc, alpha)
     K = csr_array(K)
     if nd > n2:
@@ -295,8 +356,6 @@ def _face_pressure(disc: Discretization, scene: Scene) -> np.ndarray:
 
 def _same_side(disc, x, node, tol) -> np.ndarray:
     """Whether face points ``x (p, 2)`` are visible from their nodes (no crack between)."""
-    from ..quadrature.discs import visible
-
     cseg = np.concatenate([c.segments for c in disc.scene.cracks])
     return visible(disc.nodes.x[node], x, cseg, tol * 1e-3)
 
