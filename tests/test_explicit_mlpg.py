@@ -107,14 +107,15 @@ def test_enriched_mlpg_is_refused():
 
 
 def test_growth_loop_takes_mlpg():
-    # two growth steps on the edge-cracked plate of test_growth with MLPG1 (linear basis:
-    # the quadratic one meets singular moment matrices at the coarse grown tip)
+    # two growth steps on the edge-cracked plate of test_growth with MLPG1 (quadratic basis with
+    # d_max 3: the linear basis is refused on cracked scenes, and with d_max 2.5 the quadratic
+    # one meets singular moment matrices at the coarse grown tip)
     scene = Scene(Domain.rectangle(0, 0, 2, 2), Elastic(1000.0, 0.3, "stress"),
                   supports=(Support("bottom", uy=0.0),
                             Support(lambda x: (x[:, 0] < 0.25) & (x[:, 1] < 1e-9), ux=0.0)),
                   tractions=(Traction("top", (0.0, 1.0)),),
                   cracks=(Crack([[0.0, 1.0], [0.8, 1.0]], tips=(False, True), name="c"),))
-    steps = list(grow(scene, MLPG(spacing=0.2, basis="linear"), Growth(da=0.2, max_steps=2)))
+    steps = list(grow(scene, MLPG(spacing=0.2, d_max=3.0), Growth(da=0.2, max_steps=2)))
     assert [s.index for s in steps] == [0, 1, 2] and "maximum number of steps" in steps[-1].stop
     for s0, s1 in zip(steps[:-1], steps[1:], strict=True):  # each tip moved da along its kink
         t0, t1 = s0.tips[0].tip, s1.tips[0].tip

@@ -62,7 +62,7 @@ def test_shadow_pieces_above_tip():
     scene = _uniaxial_cracked()
     m = MLPG(spacing=0.35, d_max=3.0).for_scene(scene)
     d = local.discretize_local(scene, m)
-    r_s = local.test_radii(d.nodes, m)
+    r_s = local.disc_radii(d.nodes, m)
     cseg = np.concatenate([c.segments for c in scene.cracks])
     sp = local.shadow_pieces(scene, d.nodes, r_s, cseg, 8)
     k = int(np.argmin(np.hypot(*(d.nodes.x - [3.5, 8.05]).T)))

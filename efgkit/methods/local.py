@@ -24,7 +24,7 @@ int_Gamma_u E_e . (u - ubar)) = int_Gamma_t E_e . tbar + int_Omega E_e . b
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.sparse import coo_array, csr_array, diags_array, hstack, vstack
@@ -162,10 +162,8 @@ def discretize_local(scene: Scene, method: MLPG) -> Discretization:
     local = _local_boundary(scene, approx, nodes, r_s, bpts, edge_of, edges)
     sh = shadow_pieces(scene, nodes, r_s, cseg, method.boundary_order)
     if sh.n:
-        local = LocalBoundary(local.points, local.test, local.trial, local.fixed, local.value,
-                              local.traction, local.radii,
-                              (sh, disc_test_functions(sh.x, sh.owner, nodes.x, r_s, derivatives=False),
-                               approx.shape(sh.x)))
+        local = replace(local, shadow=(
+            sh, disc_test_functions(sh.x, sh.owner, nodes.x, r_s, derivatives=False), approx.shape(sh.x)))
     timings["shape"] = time.perf_counter() - t0
     return Discretization(scene, method, nodes, points, shape, approx, timings, test=test,
                           field_points=cells, local=local)
