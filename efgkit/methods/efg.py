@@ -11,8 +11,9 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-__all__ = ["EFG", "Zone", "Rosette", "WEIGHTS", "BASES", "BC_METHODS", "QUADRATURES", "SOLVERS",
-           "CRACK_RULES", "HOLE_RULES", "ENRICHMENTS", "RAMPS"]
+__all__ = ["EFG", "MeshlessChoices", "check_choice", "check_positive", "Zone", "Rosette",
+           "WEIGHTS", "BASES", "BC_METHODS", "QUADRATURES", "SOLVERS", "CRACK_RULES", "HOLE_RULES",
+           "ENRICHMENTS", "RAMPS"]
 
 WEIGHTS = ("quartic", "gaussian", "cubic")
 BASES = ("linear", "quadratic")
@@ -30,7 +31,8 @@ RAMPS = ("linear", "quintic")
 AUTO_TIP_ZONES = ((6.0, 0.5), (3.0, 0.25))
 
 
-def _positive(name, v, integer=False):
+def check_positive(name, v, integer=False):
+    """Raise unless ``v`` is a finite number > 0 (an integer with ``integer``), naming ``name``."""
     ok = isinstance(v, (int, np.integer)) if integer else isinstance(v, (int, float, np.number))
     if isinstance(v, bool) or not ok:
         raise TypeError(f"{name} must be {'an integer' if integer else 'a real number'}, got {v!r}")
@@ -38,7 +40,8 @@ def _positive(name, v, integer=False):
         raise ValueError(f"{name} must be finite and > 0, got {v!r}")
 
 
-def _choice(name, v, options):
+def check_choice(name, v, options):
+    """Raise unless ``v`` is one of ``options``, naming ``name``."""
     if v not in options:
         raise ValueError(f"{name} must be one of {options}, got {v!r}")
 
@@ -59,8 +62,8 @@ class Zone:
         if not all(map(math.isfinite, c)):
             raise ValueError(f"zone centre must be finite, got {self.centre!r}")
         object.__setattr__(self, "centre", c)
-        _positive("zone radius", self.radius)
-        _positive("zone spacing", self.spacing)
+        check_positive("zone radius", self.radius)
+        check_positive("zone spacing", self.spacing)
 
 
 @dataclass(frozen=True)
@@ -78,16 +81,138 @@ class Rosette:
     per_ring: int = 9
 
     def __post_init__(self):
-        _positive("rosette radius", self.radius)
-        _positive("rosette rings", self.rings, integer=True)
-        _positive("rosette per_ring", self.per_ring, integer=True)
+        check_positive("rosette radius", self.radius)
+        check_positive("rosette rings", self.rings, integer=True)
+        check_positive("rosette per_ring", self.per_ring, integer=True)
         if self.per_ring < 4:
             raise ValueError(f"rosette per_ring must be >= 4 (three distinct angles and the "
                              f"split face node), got {self.per_ring!r}")
 
 
+def _symmetry_tips(scene) -> tuple:
+    """The modelled tips of a half or quarter model (boundary points: graded, not enriched)."""
+    sym = getattr(scene, "symmetry", None)
+    return () if sym is None else sym.modelled_tips(scene.domain)
+
+
+class MeshlessChoices:
+    """What EFG and MLPG share: the node cloud (spacing, zones, perturbation, coordinates,
+    rosette), the crack and hole rules and the crack-tip enrichment; their checks, the radii
+    derived from them, the automatic choices and the coarsened companion. The descriptions
+    (:class:`EFG`, :class:`~efgkit.methods.mlpg.MLPG`) are frozen dataclasses with these
+    fields; node generation and the approximation read them alike."""
+
+    def check_cloud(self) -> None:
+        """Check (and normalise) spacing, zones, perturb and coordinates."""
+        check_positive("spacing", self.spacing)
+        if self.zones is not None:
+            object.__setattr__(self, "zones", tuple(self.zones))
+        for z in self.zones or ():
+            if not isinstance(z, Zone):
+                raise TypeError(f"zones must hold Zone objects, got {type(z).__name__}")
+        if not (isinstance(self.perturb, (int, float)) and 0 <= self.perturb < 0.5):
+            raise ValueError(f"perturb must lie in [0, 0.5) (fraction of the spacing), got {self.perturb!r}")
+        if self.coordinates is not None:
+            c = np.asarray(self.coordinates, dtype=float)
+            if c.ndim != 2 or c.shape[1] != 2 or not np.all(np.isfinite(c)):
+                raise ValueError(f"coordinates must be a finite array of shape (n, 2), got shape {c.shape}")
+            object.__setattr__(self, "coordinates", c)
+
+    def check_cracks(self) -> None:
+        """Check the crack and hole rules, the rosette and the enrichment fields."""
+        check_choice("crack_rule", self.crack_rule, CRACK_RULES)
+        check_positive("rule_power", self.rule_power)
+        if self.crack_rule == "transparency" and self.rule_power < 2:
+            raise ValueError(f"crack_rule='transparency' needs rule_power >= 2 (seed 003 Eq. 32), "
+                             f"got {self.rule_power!r}")
+        check_choice("hole_rule", self.hole_rule, HOLE_RULES)
+        check_positive("kappa", self.kappa)
+        if self.rosette is not None and not isinstance(self.rosette, Rosette):
+            raise TypeError(f"rosette must be a Rosette, got {type(self.rosette).__name__}")
+        check_choice("enrichment", self.enrichment, ENRICHMENTS)
+        if self.enrich_radius is not None:
+            check_positive("enrich_radius", self.enrich_radius)
+        check_choice("ramp", self.ramp, RAMPS)
+        if not (isinstance(self.ramp_inner, (int, float)) and math.isfinite(self.ramp_inner)
+                and 0 <= self.ramp_inner < self.ramp_outer):
+            raise ValueError(f"ramp_inner must lie in [0, enrich_radius = {self.ramp_outer}), "
+                             f"got {self.ramp_inner!r}")
+
+    def automatic_choices(self, scene) -> dict:
+        """The automatic zones and enrichment for ``scene`` as keyword changes (see
+        :meth:`EFG.for_scene`): zones at the tips (and the modelled tips of a symmetry
+        model) with the automatic enrichment; extrinsic MLS for one tip, PU for several,
+        none without tips or with the visibility rule."""
+        tips = scene.tips
+        kw = {}
+        if self.zones is None:
+            kw["zones"] = () if self.coordinates is not None or self.enrichment != "auto" else tuple(
+                Zone(tuple(t.x), r * self.spacing, f * self.spacing)
+                for t in tips + _symmetry_tips(scene) for r, f in AUTO_TIP_ZONES)
+        if self.enrichment == "auto":
+            if not tips or self.crack_rule == "visibility":
+                kw["enrichment"] = "none"
+            elif len(tips) == 1:
+                kw["enrichment"] = "extrinsic_mls"
+            else:
+                kw["enrichment"] = "pu"
+                kw["enrich_radius"] = self.spacing if self.enrich_radius is None else self.enrich_radius
+        return kw
+
+    def tip_cell_zones(self, scene) -> tuple[Zone, ...]:
+        """Quadrature zones around the crack tips of ``scene``: cells within max(2 h, the
+        intrinsic enrichment radius) of a tip are split 2 x 2 and use ``refined_order`` (the
+        cells holding the tip itself get the fan rule of order ``tip_order``)."""
+        h = self.cell_size or self.spacing
+        radius = 2.0 * h
+        if self.enrichment in INTRINSIC:
+            radius = max(radius, self.ramp_outer)
+        return tuple(Zone(tuple(t.x), radius, h / 2) for t in scene.tips)
+
+    def coarsened(self, factor: float = 2.0):
+        """The same discretisation with every spacing (grid, zones, cells, rosette radius)
+        ``factor`` times larger: the companion solve of the error estimate
+        (:meth:`efgkit.solution.Solution.sifs`). Lengths of the geometry (enrichment and
+        ramp radii, zone radii) stay. User ``coordinates`` cannot be coarsened.
+
+        Examples
+        --------
+        >>> EFG(spacing=0.1, zones=(Zone((0, 0), 1.0, 0.05),)).coarsened().zones[0].spacing
+        0.1
+        """
+        if self.coordinates is not None:
+            raise ValueError(f"an {type(self).__name__} with user coordinates cannot be coarsened: "
+                             "give spacing and zones instead, or skip the error estimate "
+                             "(sifs(error=False))")
+        check_positive("factor", factor)
+        return replace(
+            self, spacing=self.spacing * factor,
+            zones=None if self.zones is None else tuple(
+                Zone(z.centre, z.radius, z.spacing * factor) for z in self.zones),
+            cell_size=None if self.cell_size is None else self.cell_size * factor,
+            rosette=None if self.rosette is None else replace(
+                self.rosette, radius=self.rosette.radius * factor),
+            enrich_radius=self.ramp_outer if self.enrichment in INTRINSIC
+            else self.pu_radius if self.enrichment == "pu" else self.enrich_radius)
+
+    @property
+    def ramp_outer(self) -> float:
+        """r2 of the intrinsic ramp (Eq. 54)."""
+        return self.enrich_radius if self.enrich_radius is not None else 4.0 * self.spacing
+
+    @property
+    def pu_radius(self) -> float:
+        """PU enrichment: nodes whose support comes this close to a tip are enriched."""
+        return self.enrich_radius if self.enrich_radius is not None else 2.0 * self.spacing
+
+    @property
+    def regular(self) -> bool:
+        """Whether nodes lie on a regular grid (decides c_I: 2nd or 3rd neighbour)."""
+        return self.coordinates is None and self.perturb == 0 and not self.zones
+
+
 @dataclass(frozen=True, eq=False)
-class EFG:
+class EFG(MeshlessChoices):
     """Element-Free Galerkin discretisation (seed 003).
 
     Parameters
@@ -204,50 +329,22 @@ class EFG:
     tip_order: int = 8
 
     def __post_init__(self):
-        _positive("spacing", self.spacing)
-        if self.zones is not None:
-            object.__setattr__(self, "zones", tuple(self.zones))
-        for z in self.zones or ():
-            if not isinstance(z, Zone):
-                raise TypeError(f"zones must hold Zone objects, got {type(z).__name__}")
-        if not (isinstance(self.perturb, (int, float)) and 0 <= self.perturb < 0.5):
-            raise ValueError(f"perturb must lie in [0, 0.5) (fraction of the spacing), got {self.perturb!r}")
-        if self.coordinates is not None:
-            c = np.asarray(self.coordinates, dtype=float)
-            if c.ndim != 2 or c.shape[1] != 2 or not np.all(np.isfinite(c)):
-                raise ValueError(f"coordinates must be a finite array of shape (n, 2), got shape {c.shape}")
-            object.__setattr__(self, "coordinates", c)
-        _positive("d_max", self.d_max)
-        _choice("weight", self.weight, WEIGHTS)
-        _positive("alpha", self.alpha)
-        _choice("basis", self.basis, BASES)
-        _choice("quadrature", self.quadrature, QUADRATURES)
-        _positive("order", self.order, integer=True)
-        _positive("refined_order", self.refined_order, integer=True)
+        self.check_cloud()
+        check_positive("d_max", self.d_max)
+        check_choice("weight", self.weight, WEIGHTS)
+        check_positive("alpha", self.alpha)
+        check_choice("basis", self.basis, BASES)
+        check_choice("quadrature", self.quadrature, QUADRATURES)
+        check_positive("order", self.order, integer=True)
+        check_positive("refined_order", self.refined_order, integer=True)
         if self.cell_size is not None:
-            _positive("cell_size", self.cell_size)
-        _choice("bc", self.bc, BC_METHODS)
+            check_positive("cell_size", self.cell_size)
+        check_choice("bc", self.bc, BC_METHODS)
         if self.penalty is not None:
-            _positive("penalty", self.penalty)
-        _choice("solver", self.solver, SOLVERS)
-        _choice("crack_rule", self.crack_rule, CRACK_RULES)
-        _positive("rule_power", self.rule_power)
-        if self.crack_rule == "transparency" and self.rule_power < 2:
-            raise ValueError(f"crack_rule='transparency' needs rule_power >= 2 (seed 003 Eq. 32), "
-                             f"got {self.rule_power!r}")
-        _choice("hole_rule", self.hole_rule, HOLE_RULES)
-        _positive("kappa", self.kappa)
-        if self.rosette is not None and not isinstance(self.rosette, Rosette):
-            raise TypeError(f"rosette must be a Rosette, got {type(self.rosette).__name__}")
-        _choice("enrichment", self.enrichment, ENRICHMENTS)
-        if self.enrich_radius is not None:
-            _positive("enrich_radius", self.enrich_radius)
-        _choice("ramp", self.ramp, RAMPS)
-        if not (isinstance(self.ramp_inner, (int, float)) and math.isfinite(self.ramp_inner)
-                and 0 <= self.ramp_inner < self.ramp_outer):
-            raise ValueError(f"ramp_inner must lie in [0, enrich_radius = {self.ramp_outer}), "
-                             f"got {self.ramp_inner!r}")
-        _positive("tip_order", self.tip_order, integer=True)
+            check_positive("penalty", self.penalty)
+        check_choice("solver", self.solver, SOLVERS)
+        self.check_cracks()
+        check_positive("tip_order", self.tip_order, integer=True)
 
     def for_scene(self, scene) -> EFG:
         """This discretisation with its automatic choices made for ``scene``.
@@ -279,72 +376,7 @@ class EFG:
         >>> EFG(spacing=0.1).for_scene(Scene(Domain.rectangle(0, 0, 1, 1), Elastic(1.0, 0.3))).bc
         'penalty'
         """
-        tips = scene.tips
-        # the modelled tips of a half or quarter model (boundary points: graded, not enriched)
-        sym = () if getattr(scene, "symmetry", None) is None else scene.symmetry.modelled_tips(scene.domain)
-        kw = {}
-        if self.zones is None:
-            kw["zones"] = () if self.coordinates is not None or self.enrichment != "auto" else tuple(
-                Zone(tuple(t.x), r * self.spacing, f * self.spacing)
-                for t in tips + sym for r, f in AUTO_TIP_ZONES)
-        if self.enrichment == "auto":
-            if not tips or self.crack_rule == "visibility":
-                kw["enrichment"] = "none"
-            elif len(tips) == 1:
-                kw["enrichment"] = "extrinsic_mls"
-            else:
-                kw["enrichment"] = "pu"
-                kw["enrich_radius"] = self.spacing if self.enrich_radius is None else self.enrich_radius
+        kw = self.automatic_choices(scene)
         if self.bc == "auto":
-            kw["bc"] = "lagrange" if tips or sym else "penalty"
+            kw["bc"] = "lagrange" if scene.tips or _symmetry_tips(scene) else "penalty"
         return replace(self, **kw) if kw else self
-
-    def tip_cell_zones(self, scene) -> tuple[Zone, ...]:
-        """Quadrature zones around the crack tips of ``scene``: cells within max(2 h, the
-        intrinsic enrichment radius) of a tip are split 2 x 2 and use ``refined_order`` (the
-        cells holding the tip itself get the fan rule of order ``tip_order``)."""
-        h = self.cell_size or self.spacing
-        radius = 2.0 * h
-        if self.enrichment in INTRINSIC:
-            radius = max(radius, self.ramp_outer)
-        return tuple(Zone(tuple(t.x), radius, h / 2) for t in scene.tips)
-
-    def coarsened(self, factor: float = 2.0) -> EFG:
-        """The same discretisation with every spacing (grid, zones, cells, rosette radius)
-        ``factor`` times larger: the companion solve of the error estimate
-        (:meth:`efgkit.solution.Solution.sifs`). Lengths of the geometry (enrichment and
-        ramp radii, zone radii) stay. User ``coordinates`` cannot be coarsened.
-
-        Examples
-        --------
-        >>> EFG(spacing=0.1, zones=(Zone((0, 0), 1.0, 0.05),)).coarsened().zones[0].spacing
-        0.1
-        """
-        if self.coordinates is not None:
-            raise ValueError("an EFG with user coordinates cannot be coarsened: give spacing and "
-                             "zones instead, or skip the error estimate (sifs(error=False))")
-        _positive("factor", factor)
-        return replace(
-            self, spacing=self.spacing * factor,
-            zones=None if self.zones is None else tuple(
-                Zone(z.centre, z.radius, z.spacing * factor) for z in self.zones),
-            cell_size=None if self.cell_size is None else self.cell_size * factor,
-            rosette=None if self.rosette is None else replace(
-                self.rosette, radius=self.rosette.radius * factor),
-            enrich_radius=self.ramp_outer if self.enrichment in INTRINSIC
-            else self.pu_radius if self.enrichment == "pu" else self.enrich_radius)
-
-    @property
-    def ramp_outer(self) -> float:
-        """r2 of the intrinsic ramp (Eq. 54)."""
-        return self.enrich_radius if self.enrich_radius is not None else 4.0 * self.spacing
-
-    @property
-    def pu_radius(self) -> float:
-        """PU enrichment: nodes whose support comes this close to a tip are enriched."""
-        return self.enrich_radius if self.enrich_radius is not None else 2.0 * self.spacing
-
-    @property
-    def regular(self) -> bool:
-        """Whether nodes lie on a regular grid (decides c_I: 2nd or 3rd neighbour)."""
-        return self.coordinates is None and self.perturb == 0 and not self.zones

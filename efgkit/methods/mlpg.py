@@ -17,22 +17,18 @@ the Gauss disc rule (the seed's piecewise-midpoint rule of Eq. 39 is kept as
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, replace
 
 import numpy as np
 
 from .efg import (
-    AUTO_TIP_ZONES,
     BASES,
-    CRACK_RULES,
-    ENRICHMENTS,
-    HOLE_RULES,
-    INTRINSIC,
-    RAMPS,
     WEIGHTS,
+    MeshlessChoices,
     Rosette,
     Zone,
+    check_choice,
+    check_positive,
 )
 
 __all__ = ["MLPG", "MLPG_BC_METHODS", "MLPG_QUADRATURES", "MLPG_SOLVERS"]
@@ -42,21 +38,8 @@ MLPG_QUADRATURES = ("midpoint", "gauss")
 MLPG_SOLVERS = ("auto", "direct", "gmres", "bicgstab")
 
 
-def _number(name, v, integer=False, low=0.0, strict=True):
-    ok = isinstance(v, (int, np.integer)) if integer else isinstance(v, (int, float, np.number))
-    if isinstance(v, bool) or not ok:
-        raise TypeError(f"{name} must be {'an integer' if integer else 'a real number'}, got {v!r}")
-    if not (math.isfinite(v) and (v > low if strict else v >= low)):
-        raise ValueError(f"{name} must be finite and {'>' if strict else '>='} {low:g}, got {v!r}")
-
-
-def _choice(name, v, options):
-    if v not in options:
-        raise ValueError(f"{name} must be one of {options}, got {v!r}")
-
-
 @dataclass(frozen=True, eq=False)
-class MLPG:
+class MLPG(MeshlessChoices):
     """Meshless Local Petrov-Galerkin discretisation, MLPG1 of seed 002 (Eqs. 20-24).
 
     Every node I owns a test disc Omega_s^I of radius r_sI = ``test_radius`` c_I and a
@@ -162,77 +145,34 @@ class MLPG:
     kind = "mlpg"
 
     def __post_init__(self):
-        _number("spacing", self.spacing)
-        if self.zones is not None:
-            object.__setattr__(self, "zones", tuple(self.zones))
-        for z in self.zones or ():
-            if not isinstance(z, Zone):
-                raise TypeError(f"zones must hold Zone objects, got {type(z).__name__}")
-        if not (isinstance(self.perturb, (int, float)) and 0 <= self.perturb < 0.5):
-            raise ValueError(f"perturb must lie in [0, 0.5) (fraction of the spacing), got {self.perturb!r}")
-        if self.coordinates is not None:
-            c = np.asarray(self.coordinates, dtype=float)
-            if c.ndim != 2 or c.shape[1] != 2 or not np.all(np.isfinite(c)):
-                raise ValueError(f"coordinates must be a finite array of shape (n, 2), got shape {c.shape}")
-            object.__setattr__(self, "coordinates", c)
-        _number("d_max", self.d_max)
-        _number("test_radius", self.test_radius)
+        self.check_cloud()
+        check_positive("d_max", self.d_max)
+        check_positive("test_radius", self.test_radius)
         if self.test_radius >= self.d_max:
             raise ValueError(f"test_radius ({self.test_radius!r}) must be smaller than d_max "
                              f"({self.d_max!r}): the test disc must lie inside the node's trial "
                              "support (seed 002: 1.1 and 2.5)")
-        _choice("weight", self.weight, WEIGHTS)
-        _number("shape_factor", self.shape_factor)
-        _number("weight_k", self.weight_k, integer=True)
-        _choice("basis", self.basis, BASES)
-        _choice("quadrature", self.quadrature, MLPG_QUADRATURES)
+        check_choice("weight", self.weight, WEIGHTS)
+        check_positive("shape_factor", self.shape_factor)
+        check_positive("weight_k", self.weight_k, integer=True)
+        check_choice("basis", self.basis, BASES)
+        check_choice("quadrature", self.quadrature, MLPG_QUADRATURES)
         for name in ("radial", "angular", "cut_angular", "boundary_order", "order",
                      "refined_order", "tip_order"):
-            _number(name, getattr(self, name), integer=True)
+            check_positive(name, getattr(self, name), integer=True)
         if self.cell_size is not None:
-            _number("cell_size", self.cell_size)
-        _choice("bc", self.bc, MLPG_BC_METHODS)
+            check_positive("cell_size", self.cell_size)
+        check_choice("bc", self.bc, MLPG_BC_METHODS)
         if self.penalty is not None:
-            _number("penalty", self.penalty)
-        _choice("solver", self.solver, MLPG_SOLVERS)
-        _choice("crack_rule", self.crack_rule, CRACK_RULES)
-        _number("rule_power", self.rule_power)
-        if self.crack_rule == "transparency" and self.rule_power < 2:
-            raise ValueError(f"crack_rule='transparency' needs rule_power >= 2 (seed 003 Eq. 32), "
-                             f"got {self.rule_power!r}")
-        _choice("hole_rule", self.hole_rule, HOLE_RULES)
-        _number("kappa", self.kappa)
-        if self.rosette is not None and not isinstance(self.rosette, Rosette):
-            raise TypeError(f"rosette must be a Rosette, got {type(self.rosette).__name__}")
-        _choice("enrichment", self.enrichment, ENRICHMENTS)
-        if self.enrich_radius is not None:
-            _number("enrich_radius", self.enrich_radius)
-        _choice("ramp", self.ramp, RAMPS)
-        if not (isinstance(self.ramp_inner, (int, float)) and math.isfinite(self.ramp_inner)
-                and 0 <= self.ramp_inner < self.ramp_outer):
-            raise ValueError(f"ramp_inner must lie in [0, enrich_radius = {self.ramp_outer}), "
-                             f"got {self.ramp_inner!r}")
+            check_positive("penalty", self.penalty)
+        check_choice("solver", self.solver, MLPG_SOLVERS)
+        self.check_cracks()
 
     @property
     def alpha(self) -> float:
         """c_I / (nodal spacing measure) of the Gaussian: shape_factor d_max, so that the
         EFG convention c = alpha c_I gives c = shape_factor r_I (seed 002 Eq. 7)."""
         return self.shape_factor * self.d_max
-
-    @property
-    def ramp_outer(self) -> float:
-        """r2 of the intrinsic ramp (seed 003 Eq. 54)."""
-        return self.enrich_radius if self.enrich_radius is not None else 4.0 * self.spacing
-
-    @property
-    def pu_radius(self) -> float:
-        """PU enrichment: nodes whose support comes this close to a tip are enriched."""
-        return self.enrich_radius if self.enrich_radius is not None else 2.0 * self.spacing
-
-    @property
-    def regular(self) -> bool:
-        """Whether nodes lie on a regular grid (decides c_I: 2nd or 3rd neighbour)."""
-        return self.coordinates is None and self.perturb == 0 and not self.zones
 
     def for_scene(self, scene) -> MLPG:
         """This discretisation with its automatic choices made for ``scene``: ``zones=None``
@@ -245,50 +185,5 @@ class MLPG:
         >>> MLPG(spacing=0.1).for_scene(Scene(Domain.rectangle(0, 0, 1, 1), Elastic(1.0, 0.3))).zones
         ()
         """
-        tips = scene.tips
-        kw = {}
-        if self.zones is None:
-            kw["zones"] = () if self.coordinates is not None or self.enrichment != "auto" else tuple(
-                Zone(tuple(t.x), r * self.spacing, f * self.spacing)
-                for t in tips for r, f in AUTO_TIP_ZONES)
-        if self.enrichment == "auto":
-            if not tips or self.crack_rule == "visibility":
-                kw["enrichment"] = "none"
-            elif len(tips) == 1:
-                kw["enrichment"] = "extrinsic_mls"
-            else:
-                kw["enrichment"] = "pu"
-                kw["enrich_radius"] = self.spacing if self.enrich_radius is None else self.enrich_radius
+        kw = self.automatic_choices(scene)
         return replace(self, **kw) if kw else self
-
-    def tip_cell_zones(self, scene) -> tuple[Zone, ...]:
-        """Field-quadrature zones around the crack tips (as :meth:`EFG.tip_cell_zones
-        <efgkit.EFG.tip_cell_zones>`)."""
-        h = self.cell_size or self.spacing
-        radius = 2.0 * h
-        if self.enrichment in INTRINSIC:
-            radius = max(radius, self.ramp_outer)
-        return tuple(Zone(tuple(t.x), radius, h / 2) for t in scene.tips)
-
-    def coarsened(self, factor: float = 2.0) -> MLPG:
-        """Every spacing ``factor`` times larger (the companion solve of the error estimate,
-        as :meth:`EFG.coarsened <efgkit.EFG.coarsened>`).
-
-        Examples
-        --------
-        >>> MLPG(spacing=0.1).coarsened().spacing
-        0.2
-        """
-        if self.coordinates is not None:
-            raise ValueError("an MLPG with user coordinates cannot be coarsened: give spacing and "
-                             "zones instead, or skip the error estimate (sifs(error=False))")
-        _number("factor", factor)
-        return replace(
-            self, spacing=self.spacing * factor,
-            zones=None if self.zones is None else tuple(
-                Zone(z.centre, z.radius, z.spacing * factor) for z in self.zones),
-            cell_size=None if self.cell_size is None else self.cell_size * factor,
-            rosette=None if self.rosette is None else replace(
-                self.rosette, radius=self.rosette.radius * factor),
-            enrich_radius=self.ramp_outer if self.enrichment in INTRINSIC
-            else self.pu_radius if self.enrichment == "pu" else self.enrich_radius)
