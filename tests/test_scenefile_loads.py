@@ -2,17 +2,25 @@
 (``[[load_cases]]``) solved with one factorisation, from the reader to ``efgkit run``."""
 
 import json
+import re
 import warnings
 
 import numpy as np
 import pytest
 
-from efgkit import EFG, Domain, Elastic, Scene, Support, Traction, solve
+from efgkit import Domain, Elastic, Scene, Support, Traction, solve
 from efgkit.cli import main
 from efgkit.problem.geometry import Loop
 from efgkit.problem.supports import Pressure
-from efgkit.scenefile import (cases_from_dict, cases_to_list, load_cases, load_scene,
-                              load_study, scene_from_dict, scene_to_dict)
+from efgkit.scenefile import (
+    cases_from_dict,
+    cases_to_list,
+    load_cases,
+    load_scene,
+    load_study,
+    scene_from_dict,
+    scene_to_dict,
+)
 
 HOLE = """
 name = "pressurised_hole"
@@ -58,7 +66,8 @@ def test_pressure_in_a_scene_file_is_the_python_scene(tmp_path):
 
 
 @pytest.mark.parametrize("edit, match", [
-    ("t = { pressure = 2.0, p = 1.0 }", r"unknown key 'p' in table 'tractions\[0\]\.t'; valid keys: pressure"),
+    ("t = { pressure = 2.0, p = 1.0 }",
+     r"unknown key 'p' in table 'tractions\[0\]\.t'; valid keys: pressure"),
     ('t = { pressure = "2" }', r"tractions\[0\]\.t\.pressure must be a number"),
 ])
 def test_bad_pressure(tmp_path, edit, match):
@@ -183,3 +192,27 @@ def test_cases_need_a_non_empty_array():
     with pytest.raises(TypeError, match=r"load_cases must be a non-empty array of tables"):
         cases_from_dict({**base, "load_cases": []})
     assert cases_from_dict(base) is None
+
+
+@pytest.mark.parametrize("old, new, match", [
+    ('name = "two_cases"', 'name = "two_cases"\nmethod = "mlpg"',
+     r"\[\[load_cases\]\] are solved by EFG \(one factorisation\); the file's method is MLPG"),
+    ('plane = "strain"', 'plane = "strain"\nrho = 1.0\n[time]\nduration = 1e-3',
+     r"\[\[load_cases\]\] are for static scenes; remove \[time\] or \[growth\]"),
+])
+def test_run_load_cases_refused(tmp_path, capsys, old, new, match):
+    f = _cases(tmp_path, old, new)
+    assert main(["run", str(f), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr()[1].strip()
+    assert re.search(match, err) and "\n" not in err, err
+
+
+def test_a_study_of_a_file_with_load_cases_is_refused():
+    # a study point solves one scene: without this check it would solve the unloaded body
+    import tomllib
+
+    from efgkit.study import Parameter, Study
+
+    with pytest.raises(ValueError, match=r"the base scene has \[\[load_cases\]\]: a study point "
+                                         r"solves one load"):
+        Study(tomllib.loads(CASES), (Parameter("material.E", (1.0, 2.0)),))

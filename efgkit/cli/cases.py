@@ -11,7 +11,7 @@ from pathlib import Path
 
 from .errors import FAILED, CLIError, stage
 
-__all__ = ["run_cases"]
+__all__ = ["cases_summary", "run_cases"]
 
 
 def _fmt(v) -> str:
