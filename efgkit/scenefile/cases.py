@@ -24,6 +24,7 @@ True
 
 from __future__ import annotations
 
+import difflib
 from dataclasses import replace
 
 from ..problem.scene import Scene
@@ -37,8 +38,6 @@ CASE_KEYS = ("name", "tractions", "body_force", "crack_pressure")
 
 def _check_table(d, path: str) -> dict:
     """``d`` is a table with a ``name`` and only the keys of :data:`CASE_KEYS`."""
-    import difflib
-
     if not isinstance(d, dict):
         raise TypeError(f"{path} must be a table {{ name = ..., tractions = [...], ... }}, got {d!r}")
     for k in d:
