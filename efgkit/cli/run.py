@@ -78,7 +78,7 @@ def cmd_run(args) -> int:
         raise CLIError(f"scene file {str(path)!r} " + ("is not a file" if path.exists()
                                                        else "not found"))
     from ..io import file_name, jsonable
-    from ..scenefile import load_study
+    from ..scenefile import load_cases, load_study
     from ..solution import method_record
     from ..static import solve
     from ..timing import Stopwatch
@@ -87,6 +87,7 @@ def cmd_run(args) -> int:
     sw = Stopwatch()  # laps: stages that add up to the wall time, compilation apart
     try:
         scene, method = load_study(path)
+        cases = load_cases(path)  # [[load_cases]]: several loads, one factorisation
     except (OSError, ValueError, TypeError, KeyError) as err:
         msg = message(err)  # scene-file errors name the file already
         raise CLIError(msg if str(path) in msg else f"{path}: {msg}") from err
@@ -94,6 +95,10 @@ def cmd_run(args) -> int:
     name = file_name(scene.name if scene.name != "scene" else path.stem)
     out = Path(args.out) if args.out is not None else Path("out") / name
     check_out(out, args.out is not None)
+    if cases is not None:
+        from .cases import run_cases
+
+        return run_cases(args, path, scene, method, cases, out, name)
     from ..growth.command import growth_table
 
     with stage(f"{path}: cannot grow the cracks", f"{path}: the growth loop failed"):

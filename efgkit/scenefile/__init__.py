@@ -39,6 +39,7 @@ from ..methods.efg import EFG
 from ..methods.mlpg import MLPG
 from ..methods.mlpg_file import study_method
 from ..problem.scene import Scene
+from .cases import cases_from_dict, cases_to_list
 from .schema import SCHEMA, efg_from_dict, key_path, scene_from_dict
 from .writer import efg_to_dict, scene_to_dict
 
@@ -47,8 +48,8 @@ try:
 except ModuleNotFoundError:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
-__all__ = ["SCHEMA", "efg_from_dict", "efg_to_dict", "load_scene", "load_study", "scene_from_dict",
-           "scene_to_dict"]
+__all__ = ["SCHEMA", "cases_from_dict", "cases_to_list", "efg_from_dict", "efg_to_dict",
+           "load_cases", "load_scene", "load_study", "scene_from_dict", "scene_to_dict"]
 
 
 def _read(path) -> tuple[Path, dict]:
@@ -73,7 +74,16 @@ def load_scene(path) -> Scene:
         scene = scene_from_dict(d)
         if "efg" in d:
             efg_from_dict(d["efg"])
+        cases_from_dict(d)  # [[load_cases]], if any
     return scene
+
+
+def load_cases(path) -> dict[str, Scene] | None:
+    """The named load cases ``{name: Scene}`` of a scene file's ``[[load_cases]]``
+    (:mod:`efgkit.scenefile.cases`), or None without them. Errors name the file path."""
+    path, d = _read(path)
+    with key_path(str(path)):
+        return cases_from_dict(d)
 
 
 def load_study(path) -> tuple[Scene, EFG | MLPG]:

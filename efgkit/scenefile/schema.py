@@ -17,6 +17,7 @@ from ..problem.exact.fields import Field
 from ..problem.geometry import Domain, Loop
 from ..problem.history import history_from_dict, with_time_table
 from ..problem.material import Elastic
+from ..problem.supports import Pressure
 
 __all__ = ["SCHEMA", "check_finite", "efg_from_dict", "join_path", "key_path", "scene_from_dict"]
 
@@ -144,6 +145,17 @@ def _vector(v, path: str) -> tuple[float, float] | Field | VectorExpression:
     return _field(v, path) if isinstance(v, dict) else VectorExpression.read(v) or _floats(v, path, 2)
 
 
+def _traction(v, path: str) -> tuple[float, float] | Field | VectorExpression | Pressure:
+    """A traction's ``t``: a vector, a field, or ``{ pressure = p }`` (:class:`Pressure`:
+    the traction ``-p n``, ``p > 0`` pushing into the body)."""
+    if isinstance(v, dict) and "pressure" in v:
+        _keys(v, path, ("pressure",))
+        p = _num(v["pressure"], join_path(path, "pressure"))
+        with key_path(path):
+            return Pressure(p)
+    return _vector(v, path)
+
+
 # --- geometry ---------------------------------------------------------------------------
 
 def _loop(d, path: str) -> Loop:
@@ -232,11 +244,11 @@ SCHEMA: dict[str, tuple[type, tuple[str, ...], dict[str, Callable | None]]] = {
         "point_supports": _many("point_supports"), "symmetry": _one("symmetry"), "efg": None,
         "time": None, "growth": None, "body_force_history": history_from_dict,
         "initial_displacement": _vector, "initial_velocity": _vector, "method": None,
-        "mlpg": None}),
+        "mlpg": None, "load_cases": None}),
     "material": (Elastic, ("E", "nu"), {"E": _num, "nu": _num, "plane": _str, "rho": _num}),
     "domain": (Domain, ("outer",), {"outer": _loop, "holes": _many("holes", _loop)}),
     "supports": (Support, ("edge",), {"edge": _str, "ux": _scalar, "uy": _scalar}),
-    "tractions": (Traction, ("edge", "t"), {"edge": _str, "t": _vector, "history": history_from_dict}),
+    "tractions": (Traction, ("edge", "t"), {"edge": _str, "t": _traction, "history": history_from_dict}),
     "point_supports": (PointSupport, ("x",), {"x": _pair, "ux": _num, "uy": _num}),
     "symmetry": (Symmetry, ("lines",), {"lines": _list, "cracks": _many("cracks")}),
     "cracks": (Crack, ("vertices",), {"vertices": _points, "tips": _tips, "name": _str,

@@ -9,6 +9,7 @@ from ..methods.efg import EFG
 from ..problem.exact.fields import Field
 from ..problem.geometry import Loop
 from ..problem.scene import Scene
+from ..problem.supports import Pressure
 from .schema import SCHEMA, join_path
 
 __all__ = ["efg_to_dict", "scene_to_dict"]
@@ -21,6 +22,8 @@ def _out(v, path: str):
         return {"field": f.pop("name"), **f}
     if isinstance(v, Loop):
         return _loop_out(v)
+    if isinstance(v, Pressure):
+        return {"pressure": v.p}
     tables = [t for t, (cls, _, _) in SCHEMA.items() if type(v) is cls]
     if tables:
         return _record(v, tables[0], path)

@@ -234,6 +234,9 @@ class Study:
         if "efg" not in self.base:
             raise ValueError("the base scene has no [efg] table: a study needs the "
                              "discretisation; add [efg] (at least spacing) to the scene file")
+        if "load_cases" in self.base:  # a point solves one scene: the cases' loads would be lost
+            raise ValueError("the base scene has [[load_cases]]: a study point solves one load; "
+                             "give the load as [[tractions]] / body_force, one study per case")
         scene_from_dict(self.base)  # the base must be a valid scene file
         efg_from_dict(self.base["efg"])
         labels = [p.label for p in params]
