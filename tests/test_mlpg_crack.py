@@ -8,6 +8,7 @@ import pytest
 from efgkit import MLPG, Scene, Support, Traction, gallery, solve
 from efgkit.approx.mls import SingularMomentMatrix
 from efgkit.methods import local
+from efgkit.quadrature.shadows import shadow_pieces
 
 E, NU = 3e7, 0.25
 EXX, EYY = (1 - NU**2) / E, -NU * (1 + NU) / E  # plane strain, sigma_xx = 1, sigma_yy = 0
@@ -38,7 +39,7 @@ def _rel_error(sol, exact):
 ])
 def test_cracked_uniaxial_patch(kw, bound):
     # spacing 0.35 puts a node 0.05 above the tip (3.5, 8): its disc is bounded by the ray
-    # through the tip, on which the traction is sigma_xx = 1 (local.shadow_pieces)
+    # through the tip, on which the traction is sigma_xx = 1 (quadrature.shadows.shadow_pieces)
     exact = np.column_stack([EXX * XS[:, 0], EYY * XS[:, 1]])
     sol = solve(_uniaxial_cracked(), MLPG(spacing=0.35, d_max=3.0, **kw))
     assert _rel_error(sol, exact) < bound
@@ -64,7 +65,7 @@ def test_shadow_pieces_above_tip():
     d = local.discretize_local(scene, m)
     r_s = local.disc_radii(d.nodes, m)
     cseg = np.concatenate([c.segments for c in scene.cracks])
-    sp = local.shadow_pieces(scene, d.nodes, r_s, cseg, 8)
+    sp = shadow_pieces(scene, d.nodes, r_s, cseg, 8)
     k = int(np.argmin(np.hypot(*(d.nodes.x - [3.5, 8.05]).T)))
     own = sp.owner == k
     # the node 0.05 above the tip (3.5, 8): the ray x = 3.5 downward, the crack (x < 3.5)
