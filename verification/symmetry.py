@@ -10,12 +10,17 @@ tip from the fields mirrored onto the whole body (``efgkit.problem.symmetry``,
 * ``sent``: the clamped SENT of seed 001 (50 x 10 mm, a/W = 0.5, 0.0253882 mm at each
   end), half model x >= 25 mm.
 
-Each model is solved with the same discretisation settings (FEM: P2 graded to the same tip
-size, no quarter points, since the part's tip is a boundary point without a tip fan; EFG: the
-same spacing, linear basis without enrichment, which the part's boundary tip does not get),
-and K_I and T are taken over the same J domains. Metric ``rel_diff``: for each
-``specimen/method/model``, max over the modelled tips of |K_I / K_I,full - 1| and
-|T / T_full - 1|.
+Like for like, at equal spacing everywhere: the full model is discretised as the mirror
+image of the part's discretisation, so that the remaining difference is the symmetry
+treatment itself. FEM: the part is meshed (P2 graded to the same tip size, no quarter
+points, since the part's tip is a boundary point without a tip fan) and the full model is
+solved on :func:`efgkit.fem.mirror_mesh` of that mesh. EFG: the full model's nodes are the
+mirror union of the part's cloud (``EFG(coordinates=...)`` on both, so both use the same
+support rule), linear basis, no enrichment on either (the part's boundary tip gets none),
+Lagrange multipliers. K_I and T are taken over the same J domains. Metric ``rel_diff``: for
+each ``specimen/method/model``, max over the modelled tips of |K_I / K_I,full - 1| and
+|T / T_full - 1|. Full mode also records the FEM full model meshed on its own
+(``rel_diff_independent_mesh``) and EFG at two spacings.
 """
 
 from __future__ import annotations
@@ -23,9 +28,11 @@ from __future__ import annotations
 import time
 import warnings
 
+import numpy as np
 from _report import Report
 
 from efgkit import EFG, FEM, solve, solve_fem
+from efgkit.fem import mirror_mesh
 from efgkit.gallery import cct, sent_seed001
 
 NAME = "symmetry"
@@ -37,105 +44,152 @@ SPECIMENS = {  # name -> (model -> scene builder, J-domain radii, FEM (quick, fu
              (1.0, 2.0, 3.0), ((2.0, 0.1), (1.0, 0.02)), (1.0, 0.5)),
 }
 TARGET = 1e-4  # issue 17: K_I and T of the part equal to the full model's to 1e-4
+ROUNDING = 1e-9  # FEM on the mirrored mesh: the same FE space, equal up to the linear solve (its
+# residual check is 1e-8; CG above 20k unknowns): measured 2.7e-10 (cct half, full mode), <= 4e-13 quick
 
 
-def _solve(method: str, sc, quick: bool, spec):
-    _, _, fems, spacings = spec
+def mirror_cloud(x: np.ndarray, lines, size: float) -> np.ndarray:
+    """Nodes ``x (n, 2)`` and their mirror images across each line in turn, shape (m, 2);
+    nodes on a line (within 1e-9 ``size``) are not doubled."""
+    for p, n in lines:
+        p, n = np.asarray(p, float), np.asarray(n, float) / np.linalg.norm(n)
+        d = (x - p) @ n
+        new = np.abs(d) > 1e-9 * size
+        x = np.vstack([x, x[new] - 2.0 * d[new, None] * n])
+    return x
+
+
+def _row(sol, radii, t0) -> dict:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        if method == "fem":
-            h, tip_h = fems[0 if quick else 1]
-            return solve_fem(sc, FEM(h, tip_h=tip_h, quarter_point=False))
-        return solve(sc, EFG(spacing=spacings[0 if quick else 1], bc="lagrange", enrichment="none"))
-
-
-def run(specimen: str, method: str, quick: bool) -> dict:
-    spec = SPECIMENS[specimen]
-    out = {}
-    for model, build in spec[0].items():
-        t0 = time.perf_counter()
-        sol = _solve(method, build(), quick, spec)
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            res = sol.sifs(radii=spec[1], error=False)
-        out[model] = {r.tip.id: {"KI": r.KI, "KII": r.KII, "T": r.T, "J": r.J,
-                                 "T_domains": [d.T for d in r.domains]} for r in res}
-        out[model]["seconds"] = time.perf_counter() - t0
+        res = sol.sifs(radii=radii, error=False)
+    out = {r.tip.id: {"KI": r.KI, "KII": r.KII, "T": r.T, "J": r.J,
+                      "T_domains": [d.T for d in r.domains]} for r in res}
+    out["seconds"] = time.perf_counter() - t0
     return out
 
 
-def rel_diff(rows: dict, model: str, keys=("KI", "T")) -> float:
-    full, part = rows["full"], rows[model]
-    return max(abs(part[t][k] / full[t][k] - 1) for t in part if t != "seconds" for k in keys)
+def run(specimen: str, method: str, quick: bool, level: int | None = None) -> dict:
+    """``{model: {tip: {KI, KII, T, J, T_domains}, "seconds"}}``: each part, and the full
+    model on the part's mirror image (``full:<part>``); full mode FEM also ``full`` meshed
+    on its own. ``level``: index into the settings (default 0 quick, 1 full)."""
+    builds, radii, fems, spacings = SPECIMENS[specimen]
+    level = (0 if quick else 1) if level is None else level
+    full_scene = builds["full"]()
+    out = {}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        if method == "fem":
+            fem = FEM(*fems[level][:1], tip_h=fems[level][1], quarter_point=False)
+            if not quick:
+                t0 = time.perf_counter()
+                out["full"] = _row(solve_fem(full_scene, fem), radii, t0)
+        for model, build in builds.items():
+            if model == "full":
+                continue
+            part, t0 = build(), time.perf_counter()
+            if method == "fem":
+                ps = solve_fem(part, fem)
+                out[model] = _row(ps, radii, t0)
+                t0 = time.perf_counter()
+                fs = solve_fem(full_scene, fem, mesh=mirror_mesh(ps.mesh, full_scene, part.symmetry.lines))
+            else:
+                h = spacings[level]
+                x = solve(part, EFG(spacing=h, bc="lagrange", enrichment="none")).nodes.x
+                ps = solve(part, EFG(spacing=h, bc="lagrange", enrichment="none", coordinates=x))
+                out[model] = _row(ps, radii, t0)
+                t0 = time.perf_counter()
+                xf = mirror_cloud(x, part.symmetry.lines, full_scene.domain.size)
+                fs = solve(full_scene, EFG(spacing=h, bc="lagrange", enrichment="none", coordinates=xf))
+            out[f"full:{model}"] = _row(fs, radii, t0)
+    return out
+
+
+def rel_diff(rows: dict, model: str, keys=("KI", "T"), full: str | None = None) -> float:
+    f, part = rows[full or f"full:{model}"], rows[model]
+    return max(abs(part[t][k] / f[t][k] - 1) for t in part if t != "seconds" for k in keys)
 
 
 def main(quick: bool = False, out_dir=None) -> dict:
     rep = Report(NAME, quick)
     methods = ("fem",) if quick else ("fem", "efg")
-    results, diffs, by_key = {}, {}, {"KI": {}, "T": {}}
+    results, diffs, by_key, indep, coarse = {}, {}, {"KI": {}, "T": {}}, {}, {}
     for specimen in SPECIMENS:
         for method in methods:
             rows = results[f"{specimen}/{method}"] = run(specimen, method, quick)
-            for model in rows:
-                if model != "full":
-                    diffs[f"{specimen}/{method}/{model}"] = rel_diff(rows, model)
-                    for k in by_key:
-                        by_key[k][f"{specimen}/{method}/{model}"] = rel_diff(rows, model, (k,))
+            for model in [m for m in rows if not m.startswith("full")]:
+                key = f"{specimen}/{method}/{model}"
+                diffs[key] = rel_diff(rows, model)
+                for k in by_key:
+                    by_key[k][key] = rel_diff(rows, model, (k,))
+                if "full" in rows:
+                    indep[key] = rel_diff(rows, model, full="full")
+            if method == "efg":
+                rows0 = results[f"{specimen}/efg@coarse"] = run(specimen, method, quick, level=0)
+                for model in [m for m in rows0 if not m.startswith("full")]:
+                    coarse[f"{specimen}/efg/{model}"] = rel_diff(rows0, model)
     rep.metrics.update({"rel_diff": diffs, "rel_diff_KI": by_key["KI"], "rel_diff_T": by_key["T"],
                         "results": results})
+    if not quick:
+        rep.metrics.update({"rel_diff_independent_mesh": indep, "rel_diff_efg_coarse": coarse,
+                            "efg_spacings": {s: list(v[3]) for s, v in SPECIMENS.items()}})
     rep.ref("rel_diff", TARGET, "issue 17: half and quarter models equal to the full model to 1e-4")
     for key in diffs:
         specimen, method, model = key.split("/")
         kII = max(abs(r["KII"]) for t, r in results[f"{specimen}/{method}"][model].items() if t != "seconds")
         rep.check(f"{key}: K_II reported 0 by symmetry", kII, "<=", 0.0)
     for key in [k for k in diffs if "/fem/" in k]:
-        # K_I meets the 1e-4 target (measured <= 7e-5); T does not: measured 1.4e-4 to 4e-3
-        # (quick and full), of the order of T's scatter over the full model's own J domains
-        # (2e-4 to 3e-3, metric T_scatter_full): the two models are meshed independently
-        specimen, method, model = key.split("/")
-        full = results[f"{specimen}/{method}"]["full"]
-        scatter = max(max(abs(t / r["T"] - 1) for t in r["T_domains"])
-                      for k, r in full.items() if k != "seconds")
-        rep.metrics.setdefault("T_scatter_full", {})[key] = scatter
-        rep.check(f"{key}: K_I relative difference", by_key["KI"][key], "<=", TARGET)
-        rep.check(f"{key}: T relative difference (target 1e-4 not reached)", by_key["T"][key], "<=", 1.2e-2)
+        # the full model on the mirrored mesh has the part's FE space for symmetric fields
+        rep.check(f"{key}: K_I and T relative difference", diffs[key], "<=", TARGET)
+        rep.check(f"{key}: equal up to the linear solve (same FE space)", diffs[key], "<=", ROUNDING)
     for key in [k for k in diffs if "/efg/" in k]:
-        # half and quarter share the boundary tip: they agree to rounding; against the full model
-        # (a crack with node splitting and the diffraction rule, no enrichment) the difference is
-        # the discretisation error of the full model's unenriched tip (measured 7e-3 at h = 0.05)
-        rep.check(f"{key}: relative difference", diffs[key], "<=", 2e-2)
+        # same nodes, but not the same approximation: the part's MLS supports end at the
+        # symmetry line, the full model's cross the ligament and are cut by the crack rule;
+        # the difference is that of the two discretisations of the tip, measured 0.7 % (cct)
+        # and 1.6 % (sent) at the fine spacing, 2.0 % and 3.5 % at twice it: the target is missed
+        rep.check(f"{key}: K_I and T relative difference (target 1e-4 not reached)", diffs[key], "<=", TARGET)
+        rep.check(f"{key}: difference falls as the spacing halves", coarse[key] - diffs[key], ">=", 0.0)
     if not quick:
+        # the same boundary tip; measured 1.4e-5 at h = 0.05 with user coordinates (support
+        # radii from the 3rd neighbour; 1e-6 with the grid rule, tests/test_symmetry.py)
         q = results["cct/efg"]
         rep.check("cct/efg: quarter equals half", max(
-            abs(q["quarter"]["crack:1"][k] / q["half"]["crack:1"][k] - 1) for k in ("KI", "T")), "<=", 1e-5)
+            abs(q["quarter"]["crack:1"][k] / q["half"]["crack:1"][k] - 1) for k in ("KI", "T")), "<=", 4e-5)
     return rep.write(out_dir)
 
 
 def markdown(r: dict) -> list[str]:
     m = r["metrics"]
-    lines = ["Each part (half, quarter) against the full model of the same specimen, solved with "
-             "the same settings (FEM P2 graded to the same tip size without quarter points; EFG "
-             "linear basis, no enrichment, Lagrange multipliers), K_I and T over the same J "
-             "domains; `rel_diff` = max(|dK_I / K_I|, |dT / T|) over the modelled tips. Target "
-             f"(issue 17): {TARGET:g}.", "",
+    lines = ["Each part (half, quarter) against the full model of the same specimen discretised as "
+             "the part's mirror image (FEM: the part's mesh, P2 graded to the same tip size without "
+             "quarter points, mirrored by `efgkit.fem.mirror_mesh`; EFG: the mirror union of the "
+             "part's node cloud, linear basis, no enrichment on either, Lagrange multipliers), K_I "
+             "and T over the same J domains; `rel_diff` = max(|dK_I / K_I|, |dT / T|) over the "
+             f"modelled tips. Target (issue 17): {TARGET:g}.", "",
              "| specimen / method / model | K_I (part) | K_I (full) | dK_I | T (part) | T (full) | dT | "
              "rel_diff |", "|---|---|---|---|---|---|---|---|"]
     for key, d in m["rel_diff"].items():
         specimen, method, model = key.split("/")
         rows = m["results"][f"{specimen}/{method}"]
         tip = next(t for t in rows[model] if t != "seconds")
-        p, f = rows[model][tip], rows["full"][tip]
+        p, f = rows[model][tip], rows[f"full:{model}"][tip]
         lines.append(f"| {key} | {p['KI']:.6g} | {f['KI']:.6g} | {m['rel_diff_KI'][key]:.1e} | "
                      f"{p['T']:.5g} | {f['T']:.5g} | {m['rel_diff_T'][key]:.1e} | {d:.2e} |")
-    sc = m.get("T_scatter_full", {})
-    return lines + ["", "K_I of every FEM part is within the 1e-4 target of the full model's. T is not: "
-                    "the difference is of the order of T's own scatter between meshes and domains (the "
-                    "models are meshed independently), the largest relative deviation of the full "
-                    "model's T over its J domains being " + ", ".join(f"{k}: {v:.1e}" for k, v in sc.items())
-                    + ". The EFG parts and the full EFG model differ by the discretisation error "
-                    "of the full model's unenriched crack (the part's tip is a boundary point, with "
-                    "no node splitting or crack rule), not by the symmetry: half and quarter agree "
-                    "to 1e-5 or better."]
+    ind, co = m.get("rel_diff_independent_mesh", {}), m.get("rel_diff_efg_coarse", {})
+    lines += ["", "FEM parts equal the full model on the mirrored mesh up to the linear solve: for symmetric "
+              "loads the full model's FE space restricted to symmetric fields is the part's with "
+              "u_n = 0 on the line, so the symmetry treatment adds no error. Against a full model "
+              "meshed on its own, the difference is that of two meshes: "
+              + ", ".join(f"{k}: {v:.1e}" for k, v in ind.items()) + "."]
+    if co:
+        lines += ["", "EFG parts miss the target on the same node cloud: the part's MLS supports end "
+                  "at the symmetry line while the full model's cross the ligament and are cut by "
+                  "the crack rule, so the two are different discretisations of the tip (the part's "
+                  "boundary tip is not enriched, so neither is the full model's). The difference "
+                  "falls with the spacing ("
+                  + ", ".join(f"{k}: {co[k]:.1e} -> {m['rel_diff'][k]:.1e}" for k in co)
+                  + f"; spacings {m['efg_spacings']})."]
+    return lines
 
 
 if __name__ == "__main__":

@@ -9,7 +9,8 @@ the same :class:`~efgkit.solution.Solution` contract as the meshless methods) an
 """
 
 from .mesh import TriMesh, mesh_scene
+from .mirror import mirror_mesh
 from .model import FEM, solve_fem
 from .solution import FEMSolution
 
-__all__ = ["FEM", "FEMSolution", "TriMesh", "mesh_scene", "solve_fem"]
+__all__ = ["FEM", "FEMSolution", "TriMesh", "mesh_scene", "mirror_mesh", "solve_fem"]

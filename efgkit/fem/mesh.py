@@ -178,12 +178,12 @@ def check_sizes(h, tip_h, grading, min_angle, tip_fan=0):
                          f"be below min_angle), got {tip_fan!r}")
 
 
-def _edge_keys(a, b, n):
+def edge_keys(a, b, n):
     lo, hi = np.minimum(a, b), np.maximum(a, b)
     return lo * n + hi
 
 
-def _open_cracks(x, t, crack_facets, keep):
+def open_cracks(x, t, crack_facets, keep):
     """Duplicate the nodes of crack facets (but not ``keep``) for the right-face elements.
 
     ``crack_facets (k, 2)`` are node pairs oriented along their crack. Returns the new
@@ -203,8 +203,8 @@ def _open_cracks(x, t, crack_facets, keep):
     e3 = np.repeat(np.arange(len(t)), 3)
     a, b = t[:, [0, 1, 2]].ravel(), t[:, [1, 2, 0]].ravel()
     la, lb = np.tile([0, 1, 2], len(t)), np.tile([1, 2, 0], len(t))
-    key = _edge_keys(a, b, n)
-    ckey = np.unique(_edge_keys(crack_facets[:, 0], crack_facets[:, 1], n))
+    key = edge_keys(a, b, n)
+    ckey = np.unique(edge_keys(crack_facets[:, 0], crack_facets[:, 1], n))
     order = np.argsort(key, kind="stable")
     ks = key[order]
     pair = np.flatnonzero(ks[1:] == ks[:-1])  # interior edges: two consecutive equal keys
@@ -223,7 +223,7 @@ def _open_cracks(x, t, crack_facets, keep):
     _, comp = connected_components(graph, directed=False)
     # side of the elements next to each crack facet: left if the third vertex is left of a -> b
     fa, fb = crack_facets[:, 0], crack_facets[:, 1]
-    fkey = _edge_keys(fa, fb, n)
+    fkey = edge_keys(fa, fb, n)
     pos = np.searchsorted(ks, fkey)
     side = np.zeros(comp.max() + 1)
     for off in (0, 1):
@@ -338,21 +338,21 @@ def mesh_scene(scene, h: float, tip_h: float | None = None, grading: float = 1.2
     tip_nodes = tuple(int(crack_ids[[c.name for c in cracks].index(tp.crack)][0 if tp.end == 0 else -1])
                       for tp in tips)
     n_orig = len(x)
-    x, t, origin = _open_cracks(x, t, cf, np.array(tip_nodes, dtype=np.int64))
+    x, t, origin = open_cracks(x, t, cf, np.array(tip_nodes, dtype=np.int64))
     fac, own = _boundary_facets(t, origin, fseg, owner, n_edges)
-    crack_nodes = _crack_node_pairs(cracks, x, origin, n_orig, cf, cidx, tip_nodes)
+    crack_nodes = crack_node_pairs(cracks, x, origin, n_orig, cf, cidx, tip_nodes)
     return TriMesh(x, t, fac, own, origin, crack_nodes, tip_nodes, domain, tuple(cracks))
 
 
 def _boundary_facets(t, origin, fseg, owner, n_edges):
     """Boundary facets ``(f, 2)`` of the opened mesh and their ``facet_owner (f,)``, via ``fseg (s, 2)``."""
     n0 = len(origin)
-    key = _edge_keys(t[:, [0, 1, 2]].ravel(), t[:, [1, 2, 0]].ravel(), n0)
+    key = edge_keys(t[:, [0, 1, 2]].ravel(), t[:, [1, 2, 0]].ravel(), n0)
     uniq, cnt = np.unique(key, return_counts=True)
     bnd = np.isin(key, uniq[cnt == 1])
     fac = np.column_stack([t[:, [0, 1, 2]].ravel()[bnd], t[:, [1, 2, 0]].ravel()[bnd]])
-    okey = _edge_keys(origin[fac[:, 0]], origin[fac[:, 1]], n0)
-    skey = _edge_keys(fseg[:, 0], fseg[:, 1], n0)
+    okey = edge_keys(origin[fac[:, 0]], origin[fac[:, 1]], n0)
+    skey = edge_keys(fseg[:, 0], fseg[:, 1], n0)
     srt = np.argsort(skey)
     pos = np.searchsorted(skey[srt], okey)
     if np.any(skey[srt][np.minimum(pos, len(skey) - 1)] != okey):  # pragma: no cover
@@ -361,7 +361,7 @@ def _boundary_facets(t, origin, fseg, owner, n_edges):
     return fac, np.where(own >= n_edges, -1 - (own - n_edges), own)
 
 
-def _crack_node_pairs(cracks, x, origin, n_orig, cf, cidx, tip_nodes):
+def crack_node_pairs(cracks, x, origin, n_orig, cf, cidx, tip_nodes):
     """Per crack, ``(left (k,), right (k,))`` indices of its opened nodes ordered by arc length."""
     crack_nodes = []
     copy = np.full(n_orig, -1)
@@ -370,13 +370,14 @@ def _crack_node_pairs(cracks, x, origin, n_orig, cf, cidx, tip_nodes):
         ids = np.unique(cf[cidx == ci])
         ids = ids[~np.isin(ids, tip_nodes)]
         right = np.where(copy[ids] >= 0, copy[ids], ids)
-        o = np.argsort(_arclength(c, x[ids]))
+        o = np.argsort(arclength(c, x[ids]))
         crack_nodes.append((ids[o], right[o]))
     return tuple(crack_nodes)
 
 
-def _arclength(crack, p):
+def arclength(crack, p):
     """Arc-length parameter along the crack polyline of points ``p (n, 2)`` on it."""
     k, t, _ = crack.project(p)
     ln = np.linalg.norm(crack.segments[:, 1] - crack.segments[:, 0], axis=1)
     return np.concatenate([[0.0], np.cumsum(ln)])[k] + t * ln[k]
+

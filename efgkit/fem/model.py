@@ -278,7 +278,7 @@ def _loads(scene, mesh, fmap, basis, order):
     return f
 
 
-def solve_fem(scene: Scene, fem: FEM) -> FEMSolution:
+def solve_fem(scene: Scene, fem: FEM, mesh: TriMesh | None = None) -> FEMSolution:
     """Mesh, assemble and solve a static scene with finite elements.
 
     Parameters
@@ -286,6 +286,9 @@ def solve_fem(scene: Scene, fem: FEM) -> FEMSolution:
     scene : Scene
         A static scene (``duration`` None).
     fem : FEM
+    mesh : TriMesh, optional
+        A mesh of ``scene`` to use instead of meshing it with ``fem`` (for example
+        :func:`~efgkit.fem.mesh.mirror_mesh` of a half model's mesh).
 
     Returns
     -------
@@ -327,7 +330,10 @@ def solve_fem(scene: Scene, fem: FEM) -> FEMSolution:
         fem = replace(fem, refine=fem.refine + tuple(t for t in tips if t not in fem.refine))
     fem = fem.for_scene(scene)  # tip grading and quarter points where there are tips
     t = {"start": time.perf_counter()}
-    mesh = mesh_scene(scene, fem.h, fem.tip_h, fem.grading, fem.min_angle, fem.tip_fan, fem.refine)
+    if mesh is None:
+        mesh = mesh_scene(scene, fem.h, fem.tip_h, fem.grading, fem.min_angle, fem.tip_fan, fem.refine)
+    elif not isinstance(mesh, TriMesh):
+        raise TypeError(f"mesh must be a TriMesh, got {type(mesh).__name__}")
     t["mesh"] = time.perf_counter()
     sk, fmap = _skfem_mesh(mesh, fem)
     elem = ElementTriP2() if fem.order == 2 else ElementTriP1()
