@@ -37,7 +37,11 @@ by less than that.
   on the surface to the S circle at the critical angle, so along that ray its front moves
   at the apparent speed :func:`head_speed` (4067 m/s at 70 degrees), between c_2 and c_1;
   the gate is narrowed to 0.85-1.08 of its travel time, before the direct S wave
-  (1.26 times later). Recorded, not checked (see the record for the number measured).
+  (1.26 times later). Recorded, not checked: at 1 and 0.5 mm the head wave's rotation
+  is a ramp that runs into the rising edge of the direct S wave, without a lobe of its
+  own, so the peak found is the gate's end (error 7-8 %), and onsets at 2-20 % of the
+  peak give 3-13 % scattered with the threshold: the head wave is not separated from
+  the S wave at the resolution run here.
 
 Cracked plates (full mode, the seed's 1 mm spacing, EFG without enrichment: enriched
 dynamic runs oscillate, docs/theory.md). The seed's figures of the crack positions are
@@ -73,6 +77,7 @@ MAT = Elastic(210000.0, 0.3, "strain", rho=7800e-12)  # MPa, tonne/mm^3 (E in GP
 P0, HALF_LOAD = 1.0, 4.0  # MPa, mm (8 mm loaded)
 US = 1e-6
 TARGET = 0.02
+ONSET = 0.1  # the diffracted P front: where |dilatation| first reaches 10 % of its largest
 CHECKED = ("P", "S", "Rayleigh", "P diffracted")  # the head wave: see the docstring
 HEAD_ANGLE = 70.0  # degrees off the vertical: beyond the critical angle asin(c_2/c_1) = 32
 CRACK_HALF = 20.0  # mm: the seed's 40 mm cracks, centred (the seed's figures are missing)
@@ -138,6 +143,14 @@ def head_speed(angle: float) -> float:
     return 1.0 / (math.sin(a) / c1 + math.cos(a) * math.sqrt(1 - (c2 / c1) ** 2) / c2)
 
 
+def _onset_time(t: np.ndarray, f: np.ndarray, frac: float) -> float:
+    """First time ``|f|`` reaches ``frac`` of its largest value (linear interpolation)."""
+    a = np.abs(f)
+    thr = frac * a.max()
+    k = max(int(np.argmax(a >= thr)), 1)
+    return float(t[k - 1] + (thr - a[k - 1]) / (a[k] - a[k - 1]) * (t[k] - t[k - 1]))
+
+
 def run(method: str, size: float, h: float, probe: dict, duration: float,
         every: float, cracks: tuple = (), snap_times=()) -> dict:
     """One run with the probe sets of :func:`probes`; the coefficients at the first output
@@ -192,9 +205,12 @@ def run(method: str, size: float, h: float, probe: dict, duration: float,
         # the same lobe at every distance: the sign of the largest one at the nearest point
         # (cylindrical spreading reshapes the pulse, and the largest |f| can change lobes)
         sign = np.sign(f[np.argmax(np.abs(f[:, 0])), 0]) or 1.0
-        tp = np.array([_peak_time(tk, sign * f[:, j], (centre + off + lo * dj / ck,
-                                                       centre + off + hi * dj / ck))
-                       for j, dj in enumerate(d)])
+        if "onset" in pr:  # the front's first arrival; its start is the pulse's start
+            tp = np.array([_onset_time(tk, f[:, j], pr["onset"]) for j in range(len(d))])
+        else:
+            tp = np.array([_peak_time(tk, sign * f[:, j], (centre + off + lo * dj / ck,
+                                                           centre + off + hi * dj / ck))
+                           for j, dj in enumerate(d)])
         slope = np.polyfit(tp, d, 1)[0]
         out["distances"][k] = d
         out["peak_times_us"][k] = tp / US
@@ -211,7 +227,11 @@ def crack_case(kind: str, size: float = 200.0) -> tuple[tuple, dict]:
       dilatation on the centre line 10-40 mm below the crack (the crack shadows the direct
       P wave there; by symmetry both tips' waves arrive together and the rotation, hence
       the diffracted S wave, vanishes), against the distance from a tip
-      ``sqrt(20^2 + d^2)``, after the direct P wave reached the tips (offset);
+      ``sqrt(20^2 + d^2)``, after the direct P wave reached the tips (offset). The front is
+      the onset (|dilatation| first at ONSET = 10 % of its largest), not a peak: the weak
+      diffracted P lobe is followed by a larger one that moves at about c_2 from the tips
+      (peak picking gave 4.6 km/s, 24 %); onsets at 2/5/10/20 % of the peak gave speed
+      errors 2.5/2.2/1.9/1.9 % at 1 mm;
     * vertical, from (100, 80) to (100, 120), below the load on the centre line: the P
       front along the axis 5-25 mm below the lower tip, past a crack parallel to it.
     """
@@ -222,7 +242,8 @@ def crack_case(kind: str, size: float = 200.0) -> tuple[tuple, dict]:
         tip = math.hypot(CRACK_HALF, size - c)
         pr = {"Pd": dict(points=np.column_stack([np.full(len(dd), c), c - dd]),
                          quantity="dilatation", dist=np.hypot(CRACK_HALF, dd),
-                         speed=MAT.c_dilatational, offset=tip / MAT.c_dilatational)}
+                         speed=MAT.c_dilatational, offset=tip / MAT.c_dilatational,
+                         onset=ONSET)}
     else:
         cr = Crack([[c, c - CRACK_HALF], [c, c + CRACK_HALF]], name="vertical")
         y = c - CRACK_HALF - np.linspace(5.0, 25.0, 5)
@@ -299,7 +320,8 @@ def main(quick: bool = False, out_dir=None) -> dict:
         wave = key.split("/")[-1]
         if (quick and wave not in quick_bound) or wave not in CHECKED:
             continue
-        rep.check(f"{key} (spacing {spacings[-1]:g} mm): front speed error", v, "<=",
+        h_used = 1.0 if "crack/" in key else spacings[-1]
+        rep.check(f"{key} (spacing {h_used:g} mm): front speed error", v, "<=",
                   quick_bound[wave] if quick else TARGET)
     m["settings"] = {"size_mm": size, "spacings_mm": spacings, "distances_mm": dist,
                      "E_MPa": MAT.E, "nu": MAT.nu, "rho": MAT.rho, "p0_MPa": P0,
@@ -343,5 +365,6 @@ def markdown(r: dict) -> list[str]:
             "speed along that ray, not checked) and the horizontal surface velocity "
             "(Rayleigh). Cracked plates (1 mm, centred cracks: the seed's figures are "
             f"missing): {cracks or 'not run'}; P diffracted: the dilatation on the centre line "
-            "below the horizontal crack against the distance from a tip.", "", *rows,
+            "below the horizontal crack, its onset (10 % of the peak) against the distance from "
+            "a tip.", "", *rows,
             "", *figs]
