@@ -62,14 +62,18 @@ def test_cracked_square_with_one_node_aggregates():
     multigrid level is singular (measured: LU fails, 'Factor is exactly singular'), and the
     pseudo-inverse takes over; penalty and Lagrange both converge. With the Williams field
     prescribed on every edge the default penalty has the largest energy-error bound seen at
-    default settings (measured 1.05e-4, true error 5.7e-5), still below ERROR_FACTOR * rtol."""
+    default settings (measured 1.3e-4, true error 5.7e-5), still below ERROR_FACTOR * rtol."""
     from efgkit import Crack, Field
 
     W = Field.named("williams", KI=1.0)
     scene = Scene(Domain.rectangle(-1, -1, 1, 1), Elastic(1.0, 0.3),
                   supports=tuple(Support(e, ux=W, uy=W) for e in ("left", "bottom", "right", "top")),
                   cracks=(Crack([[-1.0, 0.0], [0.0, 0.0]], tips=(False, True)),))
-    for bc, bound in (("penalty", 3e-4), ("lagrange", 1.5e-7)):  # measured 1.05e-4, 4.9e-8
+    # pyamg's setup draws from numpy's global random state, so the bound varies from run to run
+    # (measured over seeds 0-4 and unseeded runs: penalty 1.32e-4 to 1.33e-4, Lagrange 1.41e-7 to
+    # 3.0e-7); seeded here so that the test is repeatable, bounds ~3x the seeded values.
+    for bc, bound in (("penalty", 4e-4), ("lagrange", 4.5e-7)):  # measured 1.33e-4, 1.41e-7 (seed 0)
+        np.random.seed(0)
         sol = solve(scene, EFG(spacing=2 / 60, bc=bc, solver="amg"))
         assert sol.info["converged"] and sol.info["residual"] <= 1e-8, bc
         assert sol.info["error_bound"] < min(bound, ERROR_FACTOR * 1e-8), bc
