@@ -70,24 +70,12 @@ from ..problem.crack import Tip
 from ..problem.frames import rotate_gradient, rotate_vectors, rotate_voigt
 from ..problem.material import Elastic, strain_from_gradient, voigt_tensor
 from .auxiliary_fields import auxiliary_fields
-from .integrals import FaceLoad, Integrands, contract, domain_integrands
+from .integrals import FaceLoad, Integrands, contract, domain_integrands, real_array
 from .qfunctions import QFunction
 
 __all__ = ["DynamicIntegrands", "DynamicSIF", "contract_dynamic", "dynamic_integrands"]
 
 _AT_TIP = 1e-10  # points closer than this times r_max are left out (the static rule keeps them all)
-
-
-def _array(name: str, v, shape: tuple) -> np.ndarray:
-    """``v`` as a float array of ``shape`` (-1: any length)."""
-    try:
-        a = np.asarray(v, dtype=float)
-    except (TypeError, ValueError) as err:
-        raise TypeError(f"{name} must be a real array of shape {shape}, got {type(v).__name__}") from err
-    if a.ndim != len(shape) or any(s not in (-1, t) for s, t in zip(shape, a.shape, strict=True)):
-        want = "(" + ", ".join("n" if s == -1 else str(s) for s in shape) + ")"
-        raise ValueError(f"{name} must have shape {want}, got {a.shape}")
-    return a
 
 
 def _density(rho, material: Elastic) -> float:
@@ -198,16 +186,16 @@ def dynamic_integrands(x, w, stress, grad_u, velocity, acceleration, rho, tip: T
     if not isinstance(material, Elastic):
         raise TypeError(f"material must be an Elastic, got {type(material).__name__}")
     rho = _density(rho, material)
-    x = _array("x", x, (-1, 2))
+    x = real_array("x", x, (-1, 2))
     n = len(x)
-    arrays = {"x": x, "w": _array("w", w, (n,)), "stress": _array("stress", stress, (n, 3)),
-              "grad_u": _array("grad_u", grad_u, (n, 2, 2)),
-              "velocity": _array("velocity", velocity, (n, 2)),
-              "acceleration": _array("acceleration", acceleration, (n, 2))}
+    arrays = {"x": x, "w": real_array("w", w, (n,)), "stress": real_array("stress", stress, (n, 3)),
+              "grad_u": real_array("grad_u", grad_u, (n, 2, 2)),
+              "velocity": real_array("velocity", velocity, (n, 2)),
+              "acceleration": real_array("acceleration", acceleration, (n, 2))}
     if grad_v is not None:
-        arrays["grad_v"] = _array("grad_v", grad_v, (n, 2, 2))
+        arrays["grad_v"] = real_array("grad_v", grad_v, (n, 2, 2))
     if body_force is not None:
-        arrays["body_force"] = _array("body_force", body_force, (n, 2))
+        arrays["body_force"] = real_array("body_force", body_force, (n, 2))
     d = (x - tip.x) @ tip.rotation.T
     r = np.hypot(d[:, 0], d[:, 1])
     sel = np.flatnonzero((r < r_max) & (r > _AT_TIP * r_max))
@@ -270,7 +258,7 @@ def _face_terms(faces: FaceLoad, face_velocity, it: DynamicIntegrands, q: QFunct
         if face_velocity is None:
             raise ValueError("the W + T form (velocity gradient given) with loaded or sampled faces "
                              "needs face_velocity (m, 2), the velocity at the face points")
-        fv = _array("face_velocity", face_velocity, (len(faces.x), 2))
+        fv = real_array("face_velocity", face_velocity, (len(faces.x), 2))
         if not np.all(np.isfinite(fv)):
             raise ValueError("face_velocity must be finite")
         v = rotate_vectors(fv[inside], ang)

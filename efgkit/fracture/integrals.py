@@ -60,13 +60,13 @@ from .auxiliary_fields import auxiliary_fields
 from .qfunctions import QFunction
 
 __all__ = ["SIF", "FaceLoad", "Integrands", "contract", "domain_integrals", "domain_integrands",
-           "k_from_j"]
+           "k_from_j", "real_array"]
 
 
 _AT_TIP = 1e-12  # points closer than this times r_out to the tip are at the tip
 
 
-def _array(name: str, v, shape: tuple) -> np.ndarray:
+def real_array(name: str, v, shape: tuple) -> np.ndarray:
     """``v`` as a float array of ``shape`` (-1: any length, checked by the caller)."""
     try:
         a = np.asarray(v, dtype=float)
@@ -115,12 +115,12 @@ class FaceLoad:
     side: np.ndarray
 
     def __post_init__(self):
-        x = _array("FaceLoad.x", self.x, (-1, 2))
+        x = real_array("FaceLoad.x", self.x, (-1, 2))
         m = len(x)
-        arrays = {"x": x, "w": _array("FaceLoad.w", self.w, (m,)),
-                  "traction": _array("FaceLoad.traction", self.traction, (m, 2)),
-                  "grad_u": _array("FaceLoad.grad_u", self.grad_u, (m, 2, 2)),
-                  "side": _array("FaceLoad.side", self.side, (m,))}
+        arrays = {"x": x, "w": real_array("FaceLoad.w", self.w, (m,)),
+                  "traction": real_array("FaceLoad.traction", self.traction, (m, 2)),
+                  "grad_u": real_array("FaceLoad.grad_u", self.grad_u, (m, 2, 2)),
+                  "side": real_array("FaceLoad.side", self.side, (m,))}
         for name, a in arrays.items():
             if not np.all(np.isfinite(a)):
                 raise ValueError(f"FaceLoad.{name} must be finite; entry {np.argwhere(~np.isfinite(a))[0]}"
@@ -324,11 +324,11 @@ def domain_integrands(x, w, stress, grad_u, tip: Tip, material: Elastic, r_max: 
                         "scene.tips or crack.tip(end)")
     if not isinstance(material, Elastic):
         raise TypeError(f"material must be an Elastic, got {type(material).__name__}")
-    x = _array("x", x, (-1, 2))
+    x = real_array("x", x, (-1, 2))
     n = len(x)
-    w = _array("w", w, (n,))
-    stress = _array("stress", stress, (n, 3))
-    grad_u = _array("grad_u", grad_u, (n, 2, 2))
+    w = real_array("w", w, (n,))
+    stress = real_array("stress", stress, (n, 3))
+    grad_u = real_array("grad_u", grad_u, (n, 2, 2))
     d = (x - tip.x) @ tip.rotation.T  # tip-frame coordinates
     r = np.hypot(d[:, 0], d[:, 1])
     sel = np.flatnonzero((r < r_max) & (r > _AT_TIP * r_max))
