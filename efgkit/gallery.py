@@ -144,10 +144,13 @@ def dent(a_over_b: float = 0.5, h_over_b: float = 3.0, b: float = 1.0, sigma: fl
     stated accurate to 0.5 % for any alpha in a long strip. efgkit's FEM (P2, quarter-point
     tips, h = 0.1 b, tip h = 0.0025 b, h/b = 3 and 6 alike) gives 1.4654 at alpha = 0.5,
     0.55 % above the formula's 1.4573 (Richardson-extrapolated from h = W/20 to W/80:
-    1.46544, ``verification/defaults.py``). The other DENT fit commonly quoted from Tada,
-    ``(1.122 - 0.561 alpha - 0.205 alpha^2 + 0.471 alpha^3 - 0.190 alpha^4) / sqrt(1 - alpha)``,
-    gives 1.4840, 1.27 % above the converged FEM: the two fits disagree by 1.8 %, so it is
-    unconfirmed which (if either) is right until checked against the handbook itself.
+    1.46544, ``verification/defaults.py``). The other DENT fit quoted from Tada,
+    ``(1.122 - 0.561 alpha - 0.205 alpha^2 + 0.471 alpha^3 - 0.190 alpha^4) / sqrt(1 - alpha)``
+    (Anderson, *Fracture Mechanics*, 3rd ed. (2005), Table 2.4, taken from Tada's 2nd ed.,
+    1985), gives 1.4840, 1.27 % above the converged FEM: the two fits disagree by 1.8 %, and
+    the FEM lies between them at alpha = 0.5 and 0.7 (tan fit -0.55 % / -0.74 %, polynomial
+    +1.25 % / +0.51 % from the FEM at h = W/40). Which (if either) holds its stated 0.5 %
+    for this plate is unconfirmed until checked against the handbook's tables.
     """
     a_over_b, h = _ratio("a_over_b", a_over_b, 0, 1), _ratio("h_over_b", h_over_b, 0, 1e6) * b
     a = a_over_b * b

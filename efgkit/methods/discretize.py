@@ -258,6 +258,8 @@ def approximation(scene: Scene, method: EFG, nodes: NodeCloud,
                     "or an extrinsic enrichment, which works with see-through.")
             tips = [TipGeometry.of(c, e) for c in scene.cracks for e in (0, 1) if c.tips[e]]
             r2 = method.ramp_outer
+            if method.enrichment == "radial" and method.crack_rule in ("diffraction", "transparency"):
+                _check_radial_rule(nodes, lines, method)
             if method.enrichment == "extrinsic_mls":
                 r2 = method.enrich_radius if method.enrich_radius is not None else np.inf
                 if not np.isfinite(r2):
@@ -289,6 +291,55 @@ def _check_global_fields(scene: Scene) -> None:
                 f"the whole body, but crack {c.name!r} {why}: the fields would jump inside the "
                 "material (measured: K_I 13% low on an inclined Griffith crack). Give "
                 "enrich_radius (smaller than the crack length) to ramp them to zero.")
+
+
+def _check_radial_rule(nodes: NodeCloud, lines: CrackLines, method) -> None:
+    """The sqrt(r) basis (seed 003 Eq. 52) under a rule that lets a point see the other crack
+    face near the tip (diffraction, transparency).
+
+    sqrt(r) is even across the crack, the mode-I u_y (mode-II u_x) odd: where a point's nearest
+    nodes on the other face are as close as those on its own, the MLS fit mixes the two faces'
+    opposite sqrt(r) amplitudes into one coefficient, which then multiplies the 1 / (2 sqrt r)
+    gradient of the basis. That is the layout with no node within h/4 of the crack inside the
+    enrichment disc of a tip (the crack between node rows, or split face nodes absent): there
+    the combination is refused. Measured on the singular patch (tests/test_enrichment.py),
+    energy error against the linear basis under the same rule: diffraction 1.14-1.74 times
+    (d_max 2-3, lambda 1-8, 10 and 18 nodes across, perturbed grids, a node at the tip),
+    transparency 0.96-1.50 times (a tie only at d_max 3: no gain for the cost). With nodes on
+    the faces the basis is usable (transparency 0.83-0.96 times); under diffraction with
+    lambda < 4 it is still no better than the linear basis (1.03-1.21 times; K error 0.89 %
+    against 0.52 % on the 45 degree Griffith crack, verification ``inclined``): a warning.
+    """
+    rule, h = method.crack_rule, None
+    for tip in lines.tip_positions():
+        d = np.hypot(*(nodes.x - tip).T)
+        h = float(nodes.radius[np.argmin(d)] / method.d_max)  # c_I of the node nearest the tip
+        near = (d < method.ramp_outer) & (d > 1e-6 * h)
+        if not np.any(near & (lines.distance(nodes.x) < 0.25 * h)):
+            raise ValueError(
+                f"enrichment='radial' with crack_rule={rule!r} is not supported when no node lies "
+                f"within h/4 = {0.25 * h:g} of the crack inside the enrichment disc (radius "
+                f"{method.ramp_outer:g}) of the tip at {tip.tolist()} (the crack between node "
+                f"rows): {rule} lets points near the tip see the other face, whose nodes are then "
+                "as close as their own, and the MLS fit mixes the two faces' opposite sqrt(r) "
+                "amplitudes of the odd displacement component into the one even sqrt(r) term, "
+                "whose 1/(2 sqrt r) gradient spreads the error (singular patch energy error "
+                f"{'1.14-1.74' if rule == 'diffraction' else '0.96-1.50'} times the linear basis's "
+                "under the same rule). Use enrichment='extrinsic_mls', 'pu' or 'full' with "
+                f"crack_rule={rule!r}, or crack_rule='visibility' with d_max >= 2.5 (seed 003 Sect. "
+                "5.3.2: the sqrt(r) basis needs no smoothing; 0.72-0.88 times the linear basis's), "
+                "or put nodes on the crack faces.")
+    if rule == "diffraction" and method.rule_power < 4:
+        warnings.warn(
+            "enrichment='radial' with crack_rule='diffraction' and rule_power < 4: measured no "
+            "more accurate than the linear basis under the same rule (singular patch energy error "
+            "1.03-1.21 times the linear basis's with nodes on the crack faces; K error 0.89 % "
+            "against 0.52 % on the 45 degree Griffith crack): diffraction lets points near the tip "
+            "see the other face, and the even sqrt(r) term mixes the faces' opposite amplitudes. "
+            "Use enrichment='extrinsic_mls', 'pu' or 'full', crack_rule='visibility' on "
+            "grid-aligned cracks (seed 003 Sect. 5.3.2: 0.56-0.81 times the linear basis's), or "
+            "rule_power >= 4 (0.77-0.88 times).",
+            UserWarning, stacklevel=4)
 
 
 def _warn_close_to_crack(nodes: NodeCloud, lines: CrackLines, h: float, enrichment: str) -> None:

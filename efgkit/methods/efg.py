@@ -270,7 +270,9 @@ class EFG(MeshlessChoices):
         refuses visibility, except the sqrt(r) basis (``enrichment="radial"``),
         which needs no smoothing (seed 003 Sect. 5.3.2) and is more accurate
         with it on grid-aligned cracks, less on inclined ones (verification
-        ``singular_patch``, ``inclined``).
+        ``singular_patch``, ``inclined``); the sqrt(r) basis with diffraction or
+        transparency is refused where no node lies within h/4 of the crack near a tip
+        (worse than the linear basis there, docs/theory.md).
     rule_power : float
         lambda of the diffraction (Eq. 29) or transparency (Eq. 32, >= 2) rule.
     hole_rule : {"see_through", "visibility", "diffraction"}
