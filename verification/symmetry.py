@@ -34,6 +34,7 @@ from _report import Report
 from efgkit import EFG, FEM, solve, solve_fem
 from efgkit.fem import mirror_mesh
 from efgkit.gallery import cct, sent_seed001
+from efgkit.nodes import generate_nodes
 
 NAME = "symmetry"
 TITLE = "Half and quarter models (symmetry) against the full model"
@@ -95,7 +96,7 @@ def run(specimen: str, method: str, quick: bool, level: int | None = None) -> di
                 fs = solve_fem(full_scene, fem, mesh=mirror_mesh(ps.mesh, full_scene, part.symmetry.lines))
             else:
                 h = spacings[level]
-                x = solve(part, EFG(spacing=h, bc="lagrange", enrichment="none")).nodes.x
+                x = generate_nodes(part.domain, EFG(spacing=h, bc="lagrange", enrichment="none")).x
                 ps = solve(part, EFG(spacing=h, bc="lagrange", enrichment="none", coordinates=x))
                 out[model] = _row(ps, radii, t0)
                 t0 = time.perf_counter()

@@ -1,0 +1,266 @@
+"""Image nodes of half and quarter models: the part's MLS coefficients tied to their mirror images.
+
+A symmetric body under a symmetric (mode-I) load has a symmetric solution, ``u(x') = R u(x)``
+at ``x' = p + R (x - p)`` for each mirror line (:func:`efgkit.problem.symmetry.reflection`,
+``R = I - 2 n n^T``). The EFG approximation of a half or quarter model is the full model's
+restricted to such fields: its nodes are the part's nodes and their images under the mirror
+group ``G`` (one line: ``{e, g_1}``; two perpendicular lines: ``{e, g_1, g_2, g_1 g_2}``), the
+MLS functions those of the whole body (supports crossing the lines, crack rules with the whole
+crack), and the coefficients are tied by ``a_{g(I)} = R_g a_I``. With ``j_g(I)`` the node of
+the mirrored cloud that ``g`` maps part node ``I`` to (on a crack on the line: the copy of the
+split node on the face ``g`` maps to) and ``S_I = {g : j_g(I) = j_e(I)}`` its stabiliser, the
+part's coefficients ``b_I`` give ``a = T b`` with the 2 x 2 blocks
+
+    T_{j_g(I), I} = R_g P_I,    P_I = (1 / |S_I|) sum_{g in S_I} R_g,
+
+``P_I`` the projector on the fixed space of ``S_I`` (a node on a line keeps its tangential
+coefficient only). With mirror normals along the axes every ``P_I`` is diagonal with entries 0
+or 1; the components with 0 are no unknowns. The part's system is ``T^T A T`` over the part's
+quadrature (the full model's restricted to the part, weights on a line halved), whose energy is
+half the full model's for every tied field: the Galerkin solution is the full model's on the
+mirrored cloud. The symmetry condition u_n = 0 on the lines holds identically and is imposed by
+no constraint (docs/theory.md, "Image nodes").
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+from scipy.sparse import block_diag, coo_array, csr_array, identity
+from scipy.spatial import cKDTree
+
+from ..problem.symmetry import reflection
+from .constraints import LinearSystem, RigidBodyModeError
+
+__all__ = ["ImageTie", "TiedSystem", "image_group", "image_positions", "part_weights", "tie",
+           "without_mirror_conditions"]
+
+
+def image_group(lines) -> tuple[np.ndarray, np.ndarray]:
+    """The mirror group of ``lines`` as affine maps ``x' = R_s x + c_s``: ``R (m, 2, 2)``,
+    ``c (m, 2)``, ``m = 2^len(lines)``; element ``s`` applies the reflections in the bits of
+    ``s`` (perpendicular reflections commute, so the group product is ``s xor t``)."""
+    refl = [reflection(p, n) for p, n in lines]
+    m = 2 ** len(refl)
+    R, c = np.tile(np.eye(2), (m, 1, 1)), np.zeros((m, 2))
+    for s in range(m):  # tiny fixed size: 2 or 4 elements
+        for bit, (p, Rl) in enumerate(refl):
+            if s >> bit & 1:
+                R[s], c[s] = Rl @ R[s], Rl @ c[s] + p - Rl @ p
+    return R, c
+
+
+def image_positions(x: np.ndarray, lines, tol: float) -> tuple[np.ndarray, np.ndarray]:
+    """The part's nodes ``x (n, 2)`` and their distinct images, ``(y (m, 2), U (n_g, n))``:
+    ``y[U[s, I]]`` is element ``s`` of :func:`image_group` applied to node ``I``; images within
+    ``tol`` of a node already listed (nodes on a line) are that node. ``y`` starts with ``x``
+    and lists new images in group order (the order of the mirror-union clouds of
+    ``verification/symmetry.py``)."""
+    R, c = image_group(lines)
+    y, U = x, np.zeros((len(R), len(x)), dtype=np.int64)
+    U[0] = np.arange(len(x))
+    for s in range(1, len(R)):
+        z = x @ R[s].T + c[s]
+        d, k = cKDTree(y).query(z)
+        new = d > tol
+        U[s] = np.where(new, len(y) + np.cumsum(new) - 1, k)
+        y = np.vstack([y, z[new]])
+    return y, U
+
+
+def part_weights(x: np.ndarray, lines, sides: np.ndarray, tol: float) -> np.ndarray:
+    """Factor of each point ``x (n, 2)`` of a mirror-symmetric quadrature of the whole body in
+    the part's: 0 outside the part, 1/2 per line the point lies on (within ``tol``), 1 inside.
+    ``sides (n_lines,)``: +1 or -1, the side of each line ``(x - p) . n`` the part lies on."""
+    f = np.ones(len(x))
+    for (p, n), sd in zip(lines, sides):
+        n = np.asarray(n) / np.hypot(*n)
+        d = sd * ((x - p) @ n)
+        f *= np.where(d > tol, 1.0, np.where(d >= -tol, 0.5, 0.0))
+    return f
+
+
+@dataclass(frozen=True, eq=False)
+class ImageTie:
+    """The tie ``a = T b`` of the mirrored cloud's coefficients ``a`` to the part's ``b``.
+
+    Attributes
+    ----------
+    T : csr_array (2 n_full, n_free)
+        Columns: the part's unknowns that are not fixed by symmetry (``free``).
+    free : (n_free,) int
+        The part coefficients ``2 I + c`` the columns stand for.
+    n_part : int
+        Nodes of the part (the first ``n_part`` nodes of the mirrored cloud, ``a`` order).
+    translations : (k, 2)
+        Unit rigid translations along every line (k = 1 for a half model, 0 for a quarter):
+        the rigid motions of the tied space the supports must hold.
+    """
+
+    T: csr_array
+    free: np.ndarray
+    n_part: int
+    translations: np.ndarray
+
+    def matrix(self, K) -> csr_array:
+        """``T^T K T`` of an operator over the mirrored cloud's coefficients."""
+        return csr_array(self.T.T @ csr_array(K) @ self.T)
+
+    def reduce(self, system: LinearSystem) -> LinearSystem:
+        """The system over the part's free unknowns (and the multipliers, if any):
+        ``Tb^T A Tb``, ``Tb^T b`` with ``Tb = diag(T, I)``; its :meth:`coefficients
+        <LinearSystem.coefficients>` are the mirrored cloud's.
+
+        Raises
+        ------
+        RigidBodyModeError
+            When the supports leave a symmetric rigid translation (along a half model's line) free.
+        ValueError
+            For a system that eliminates coefficients (bc="modified_mls" or "collocation").
+        """
+        if system.free is not None or system.n_coeffs != self.T.shape[0]:
+            raise ValueError("image nodes tie the coefficients of bc='penalty', 'lagrange' or "
+                             "'variational' systems; use one of those for a half or quarter model")
+        n_mult = system.A.shape[0] - system.n_coeffs
+        Tb = csr_array(block_diag([self.T, identity(n_mult)], format="csr")) if n_mult else self.T
+        A = csr_array(Tb.T @ system.A @ Tb)
+        self._check_modes(A)
+        forces = system.support_forces
+        return TiedSystem(A, Tb.T @ system.b, system.spd, self.T.shape[1],
+                          support_forces=None if forces is None else (lambda z: forces(Tb @ z)),
+                          tie=self.T)
+
+    def part_modes(self, modes: np.ndarray) -> np.ndarray:
+        """Rows of the part's nodal ``modes (>= 2 n_part, k)`` at the free unknowns."""
+        return modes[self.free]
+
+    def _check_modes(self, A: csr_array) -> None:
+        scale = abs(A).max()
+        for t in self.translations:
+            z = np.zeros(A.shape[0])
+            z[: len(self.free)] = t[self.free % 2]
+            if np.abs(A @ z).max() <= 1e-9 * scale:
+                raise RigidBodyModeError(
+                    f"the essential boundary conditions of this half model leave the rigid "
+                    f"translation along its symmetry line, direction {t.round(12).tolist()}, free; "
+                    "prescribe that component somewhere (e.g. a PointSupport)")
+
+
+@dataclass(frozen=True, eq=False)
+class TiedSystem(LinearSystem):
+    """A :class:`LinearSystem` over the part's free unknowns whose coefficients are those of
+    the mirrored cloud, ``a = T z[:n_free]``."""
+
+    tie: csr_array | None = None
+
+    def coefficients(self, z: np.ndarray) -> np.ndarray:
+        return self.tie @ z[: self.n_coeffs]
+
+
+def tie(lines, U: np.ndarray, origin: np.ndarray, side: np.ndarray, sides: np.ndarray) -> ImageTie:
+    """The :class:`ImageTie` of a mirrored cloud.
+
+    Parameters
+    ----------
+    lines : the mirror lines ((x0, y0), (nx, ny)), normals along the axes
+    U : (n_g, n_part) int
+        :func:`image_positions`: the unsplit position of every image of every part node.
+    origin : (n_full,) int
+        Unsplit position of every node of the mirrored cloud (split crack nodes: two nodes,
+        one per face, share one position; the cloud lists the positions first, in order).
+    side : (n_full, 2)
+        Of a split node, a vector pointing into the face it belongs to; 0 for the others.
+    sides : (n_lines,)
+        The side (+1 or -1) of each line the part lies on.
+    """
+    normals = np.array([np.asarray(n) / np.hypot(*n) for _, n in lines])
+    if not np.all(np.isclose(np.abs(normals), 0.0, atol=1e-12) | np.isclose(np.abs(normals), 1.0)):
+        raise ValueError(f"EFG half and quarter models need mirror lines along the axes (normals "
+                         f"(1, 0) or (0, 1)), got normals {normals.tolist()}; rotate the model")
+    R, _ = image_group(lines)
+    n_g, n_part = U.shape
+    n_full, n_pos = len(origin), U.max() + 1
+    second = np.full(n_pos, -1)  # the face copy of a split position, appended after the positions
+    second[origin[n_pos:]] = np.arange(n_pos, n_full)
+    # every position as (group element, part node): the element that maps the part node there
+    rep_s, rep_i = np.zeros(n_pos, np.int64), np.zeros(n_pos, np.int64)
+    for s in range(n_g - 1, -1, -1):  # tiny fixed size
+        rep_s[U[s]], rep_i[U[s]] = s, np.arange(n_part)
+
+    def act(s, j):  # node g_s(node j) of the mirrored cloud
+        o = U[s ^ rep_s[origin[j]], rep_i[origin[j]]]
+        v = side[j] @ R[s].T
+        other = (second[o] >= 0) & (np.einsum("nd,nd->n", side[o], v) < 0)
+        return np.where(other, second[o], o)
+
+    part = np.arange(n_part)
+    inward = side[part] @ (normals.T * sides).sum(axis=1) if len(lines) else np.zeros(n_part)
+    j0 = np.where((second[part] >= 0) & (inward < 0), second[part], part)  # the part's own face
+    J = np.array([act(s, j0) for s in range(n_g)])  # (n_g, n_part)
+    stab = J == j0[None]
+    P = np.einsum("si,sab->iab", stab.astype(float), R) / stab.sum(axis=0)[:, None, None]
+    diag = np.stack([P[:, 0, 0], P[:, 1, 1]], axis=1)  # diagonal (axes-aligned mirrors)
+    first = np.ones_like(stab)
+    for s in range(1, n_g):
+        first[s] = ~np.any(J[:s] == J[s][None], axis=0)
+    if len(np.unique(J[first])) != n_full:
+        raise RuntimeError("image nodes: the mirrored cloud is not the orbit of the part's nodes")
+    s_idx, i_idx = np.nonzero(first)
+    rows, cols, vals = [], [], []
+    for c in (0, 1):
+        keep = diag[i_idx, c] != 0
+        rows.append(2 * J[s_idx, i_idx][keep] + c)
+        cols.append(2 * i_idx[keep] + c)
+        vals.append(R[s_idx[keep], c, c] * diag[i_idx[keep], c])
+    rows, cols, vals = map(np.concatenate, (rows, cols, vals))
+    free = np.flatnonzero(np.column_stack([diag[:, 0] != 0, diag[:, 1] != 0]).ravel())
+    col_of = np.full(2 * n_part, -1)
+    col_of[free] = np.arange(len(free))
+    T = coo_array((vals, (rows, col_of[cols])), shape=(2 * n_full, len(free))).tocsr()
+    trans = np.eye(2)[np.all(np.abs(normals @ np.eye(2)) < 1e-12, axis=0)]
+    return ImageTie(T, free, n_part, trans)
+
+
+def without_mirror_conditions(scene):
+    """``scene`` without the conditions u_n = 0 on its mirror lines, which the tie holds
+    identically (a constraint row would be zero): the normal component of a
+    :class:`~efgkit.problem.scene.Support` on a named edge lying on a line, and of a
+    :class:`~efgkit.problem.supports.PointSupport` on a line, is dropped.
+
+    Raises
+    ------
+    ValueError
+        When such a condition prescribes u_n other than 0 (symmetry holds u_n = 0 there).
+    """
+    tol = 1e-9 * scene.domain.size
+
+    def normal_key(points, where):
+        for p, n in scene.symmetry.lines:
+            n = np.asarray(n) / np.hypot(*n)
+            if len(points) and np.all(np.abs((points - p) @ n) <= tol):
+                return "ux" if abs(n[0]) > 0.5 else "uy"
+        return None
+
+    def reduced(sup, key, where):
+        v = getattr(sup, key)
+        if v is None:
+            return sup
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or v != 0:
+            raise ValueError(f"{where} lies on a symmetry line and prescribes {key} = {v!r}: a half "
+                             f"or quarter model has {key} = 0 there by symmetry; remove it or give 0")
+        other = "uy" if key == "ux" else "ux"
+        return None if getattr(sup, other) is None else replace(sup, **{key: None})
+
+    supports = []
+    for s in scene.supports:
+        key = None if callable(s.edge) else normal_key(
+            np.vstack([e.polyline() for e in scene.domain.edges(s.edge)]), s.edge)
+        s = s if key is None else reduced(s, key, f"support on {s.edge!r}")
+        supports += [] if s is None else [s]
+    points = []
+    for s in scene.point_supports:
+        key = normal_key(np.asarray([s.x]), s.x)
+        s = s if key is None else reduced(s, key, f"point support at {s.x}")
+        points += [] if s is None else [s]
+    return replace(scene, supports=tuple(supports), point_supports=tuple(points))
