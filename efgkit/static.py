@@ -66,7 +66,7 @@ def constrained_system(disc: Discretization, K, f: np.ndarray, method: EFG | Non
     :class:`~efgkit.system.constraints.LinearSystem` to solve."""
     m, mat = method or disc.method, disc.scene.material
     h = m.spacing
-    check = disc.images is None  # a half or quarter model: ImageTie.reduce checks the tied space
+    check = getattr(disc, "images", None) is None  # a half or quarter model: ImageTie.reduce checks the tied space
     if not check:
         disc = replace(disc, scene=without_mirror_conditions(disc.scene))
         if not (disc.scene.supports or disc.scene.point_supports):  # the tie holds them all

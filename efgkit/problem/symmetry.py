@@ -81,6 +81,12 @@ class Symmetry:
                 raise ValueError(f"symmetry crack {c.name!r} does not lie on a symmetry line; a crack "
                                  "off the lines belongs in Scene.cracks")
 
+    def line_of(self, x, tol: float) -> int | None:
+        """Index of the line all points ``x (n, 2)`` lie on (within ``tol``), else None."""
+        x = np.asarray(x, dtype=float).reshape(-1, 2)
+        return next((k for k, (p, n) in enumerate(self.lines)
+                     if len(x) and _on_line(x, p, n, tol).all()), None)
+
     def modelled_tips(self, domain: Domain) -> tuple:
         """The tips of :attr:`cracks` on the model's boundary (its own tips)."""
         tol = 1e-9 * domain.size

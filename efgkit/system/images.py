@@ -235,12 +235,9 @@ def without_mirror_conditions(scene):
     """
     tol = 1e-9 * scene.domain.size
 
-    def normal_key(points, where):
-        for p, n in scene.symmetry.lines:
-            n = np.asarray(n) / np.hypot(*n)
-            if len(points) and np.all(np.abs((points - p) @ n) <= tol):
-                return "ux" if abs(n[0]) > 0.5 else "uy"
-        return None
+    def normal_key(points):
+        k = scene.symmetry.line_of(points, tol)
+        return None if k is None else "ux" if abs(scene.symmetry.lines[k][1][0]) > 0 else "uy"
 
     def reduced(sup, key, where):
         v = getattr(sup, key)
@@ -255,12 +252,12 @@ def without_mirror_conditions(scene):
     supports = []
     for s in scene.supports:
         key = None if callable(s.edge) else normal_key(
-            np.vstack([e.polyline() for e in scene.domain.edges(s.edge)]), s.edge)
+            np.vstack([e.polyline() for e in scene.domain.edges(s.edge)]))
         s = s if key is None else reduced(s, key, f"support on {s.edge!r}")
         supports += [] if s is None else [s]
     points = []
     for s in scene.point_supports:
-        key = normal_key(np.asarray([s.x]), s.x)
+        key = normal_key(np.asarray([s.x]))
         s = s if key is None else reduced(s, key, f"point support at {s.x}")
         points += [] if s is None else [s]
     return replace(scene, supports=tuple(supports), point_supports=tuple(points))
