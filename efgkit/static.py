@@ -29,8 +29,15 @@ from .problem.scene import Scene
 from .system.assemble import stiffness
 from .system.auxiliary import AuxiliarySpace
 from .system.collocation import collocation
+from .system.constraints import (
+    LinearSystem,
+    eliminate,
+    lagrange,
+    modified_variational,
+    penalty,
+    rigid_body_modes,
+)
 from .system.images import without_mirror_conditions
-from .system.constraints import LinearSystem, eliminate, lagrange, modified_variational, penalty, rigid_body_modes
 from .system.linalg import solve as linear_solve
 from .timing import Stopwatch
 
@@ -66,7 +73,7 @@ def constrained_system(disc: Discretization, K, f: np.ndarray, method: EFG | Non
     :class:`~efgkit.system.constraints.LinearSystem` to solve."""
     m, mat = method or disc.method, disc.scene.material
     h = m.spacing
-    check = getattr(disc, "images", None) is None  # a half or quarter model: ImageTie.reduce checks the tied space
+    check = getattr(disc, "images", None) is None  # half/quarter model: ImageTie.reduce checks
     if not check:
         disc = replace(disc, scene=without_mirror_conditions(disc.scene))
         if not (disc.scene.supports or disc.scene.point_supports):  # the tie holds them all

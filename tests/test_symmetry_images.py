@@ -116,7 +116,8 @@ def test_tie_refuses_lines_off_the_axes_and_eliminating_systems():
             np.ones(1))
     t = discretize(HALF, EFG(spacing=0.25, bc="lagrange", enrichment="none")).images
     n = t.T.shape[0]
-    elim = LinearSystem(csr_array(np.eye(2)), np.zeros(2), True, n, free=np.arange(2), fixed_values=np.zeros(n))
+    elim = LinearSystem(csr_array(np.eye(2)), np.zeros(2), True, n, free=np.arange(2),
+                        fixed_values=np.zeros(n))
     with pytest.raises(ValueError, match="tie the coefficients of bc='penalty'"):
         t.reduce(elim)
 

@@ -7,8 +7,9 @@ number per ``[[cracks]]`` entry, in their order). A key a case leaves out is no 
 that kind. A case may give its own prescribed values: ``supports`` and ``point_supports``
 (arrays of tables as ``[[supports]]`` and ``[[point_supports]]``) replace the top level's
 for that case, on the same edges and points with the same components (only the values may
-differ: :func:`~efgkit.loadcases.solve_cases` checks it); left out, the top level's hold. The top level then holds no load of its own (no ``[[tractions]]``, no
-``body_force``, no crack ``pressure``): a ValueError says so, so that no load is
+differ: :func:`~efgkit.loadcases.solve_cases` checks it); left out, the top level's hold.
+The top level then holds no load of its own (no ``[[tractions]]``, no ``body_force``, no
+crack ``pressure``): a ValueError says so, so that no load is
 silently added to or dropped from the cases. A scene without ``[[load_cases]]`` is read
 as before. :func:`efgkit.loadcases.solve_cases` solves the cases with one factorisation.
 

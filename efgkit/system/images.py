@@ -74,7 +74,7 @@ def part_weights(x: np.ndarray, lines, sides: np.ndarray, tol: float) -> np.ndar
     the part's: 0 outside the part, 1/2 per line the point lies on (within ``tol``), 1 inside.
     ``sides (n_lines,)``: +1 or -1, the side of each line ``(x - p) . n`` the part lies on."""
     f = np.ones(len(x))
-    for (p, n), sd in zip(lines, sides):
+    for (p, n), sd in zip(lines, sides, strict=True):
         n = np.asarray(n) / np.hypot(*n)
         d = sd * ((x - p) @ n)
         f *= np.where(d > tol, 1.0, np.where(d >= -tol, 0.5, 0.0))
