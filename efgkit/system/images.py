@@ -33,8 +33,8 @@ from scipy.spatial import cKDTree
 from ..problem.symmetry import reflection
 from .constraints import LinearSystem, RigidBodyModeError
 
-__all__ = ["ImageTie", "TiedSystem", "image_group", "image_positions", "part_weights", "tie",
-           "without_mirror_conditions"]
+__all__ = ["BRANCH_PARITY", "ImageTie", "TiedSystem", "extra_action", "image_group", "image_positions",
+           "part_weights", "tie", "without_mirror_conditions"]
 
 
 def image_group(lines) -> tuple[np.ndarray, np.ndarray]:
@@ -87,8 +87,9 @@ class ImageTie:
 
     Attributes
     ----------
-    T : csr_array (2 n_full, n_free)
-        Columns: the part's unknowns that are not fixed by symmetry (``free``).
+    T : csr_array (2 n_full + n_extra, n_free + n_extra_free)
+        Columns: the part's nodal unknowns that are not fixed by symmetry (``free``), then
+        one per orbit of enrichment unknowns that symmetry does not eliminate.
     free : (n_free,) int
         The part coefficients ``2 I + c`` the columns stand for.
     n_part : int
@@ -132,8 +133,11 @@ class ImageTie:
                           tie=self.T)
 
     def part_modes(self, modes: np.ndarray) -> np.ndarray:
-        """Rows of the part's nodal ``modes (>= 2 n_part, k)`` at the free unknowns."""
-        return modes[self.free]
+        """Rows of the part's nodal ``modes (>= 2 n_part, k)`` at the free unknowns (and 0 at
+        the enrichment unknowns), shape (n_free + n_extra_free, k)."""
+        out = np.zeros((self.T.shape[1], modes.shape[1]))
+        out[: len(self.free)] = modes[self.free]
+        return out
 
     def _check_modes(self, A: csr_array) -> None:
         scale = abs(A).max()
@@ -158,7 +162,8 @@ class TiedSystem(LinearSystem):
         return self.tie @ z[: self.n_coeffs]
 
 
-def tie(lines, U: np.ndarray, origin: np.ndarray, side: np.ndarray, sides: np.ndarray) -> ImageTie:
+def tie(lines, U: np.ndarray, origin: np.ndarray, side: np.ndarray, sides: np.ndarray,
+        enrichment=None, tol: float = 0.0) -> ImageTie:
     """The :class:`ImageTie` of a mirrored cloud.
 
     Parameters
@@ -173,6 +178,11 @@ def tie(lines, U: np.ndarray, origin: np.ndarray, side: np.ndarray, sides: np.nd
         Of a split node, a vector pointing into the face it belongs to; 0 for the others.
     sides : (n_lines,)
         The side (+1 or -1) of each line the part lies on.
+    enrichment : Enrichment, optional
+        Extrinsic enrichment of the mirrored cloud (:func:`extra_action`); its unknowns are
+        tied like the nodal ones, one representative per orbit (the lowest index).
+    tol : float
+        Distance below which two tips coincide.
     """
     normals = np.array([np.asarray(n) / np.hypot(*n) for _, n in lines])
     if not np.all(np.isclose(np.abs(normals), 0.0, atol=1e-12) | np.isclose(np.abs(normals), 1.0)):
@@ -217,9 +227,78 @@ def tie(lines, U: np.ndarray, origin: np.ndarray, side: np.ndarray, sides: np.nd
     free = np.flatnonzero(np.column_stack([diag[:, 0] != 0, diag[:, 1] != 0]).ravel())
     col_of = np.full(2 * n_part, -1)
     col_of[free] = np.arange(len(free))
-    T = coo_array((vals, (rows, col_of[cols])), shape=(2 * n_full, len(free))).tocsr()
+    rows, cols = [rows], [col_of[cols]]
+    vals, n_cols, n_extra = [vals], len(free), 0
+    if enrichment is not None and enrichment.n_extra:
+        n_extra = enrichment.n_extra
+        emap, esign = extra_action(enrichment, np.array([act(s, np.arange(n_full)) for s in range(n_g)]),
+                                   lines, tol)
+        rep = np.flatnonzero(emap.min(axis=0) == np.arange(n_extra))  # one per orbit
+        E, S = emap[:, rep], esign[:, rep]
+        stab = E == rep[None]
+        p = (S * stab).sum(axis=0) / stab.sum(axis=0)  # 1 (kept) or 0 (odd under its stabiliser)
+        keep = np.flatnonzero(np.abs(p) > 0.5)
+        ef = np.ones_like(E, dtype=bool)
+        for s in range(1, n_g):
+            ef[s] = ~np.any(E[:s] == E[s][None], axis=0)
+        si, k = np.nonzero(ef[:, keep])
+        rows.append(2 * n_full + E[si, keep[k]])
+        cols.append(n_cols + k)
+        vals.append(S[si, keep[k]] * p[keep[k]])
+        n_cols += len(keep)
+    T = coo_array((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                  shape=(2 * n_full + n_extra, n_cols)).tocsr()
     trans = np.eye(2)[np.all(np.abs(normals @ np.eye(2)) < 1e-12, axis=0)]
     return ImageTie(T, free, n_part, trans)
+
+
+BRANCH_PARITY = np.array([1.0, -1.0, 1.0, -1.0])  # the "full" branch functions under theta -> -theta
+
+
+def extra_action(enrichment, node_act: np.ndarray, lines, tol: float) -> tuple[np.ndarray, np.ndarray]:
+    """How the mirror group acts on the extrinsic enrichment unknowns of a mirrored cloud:
+    ``(map, sign)``, each (n_g, n_extra): element ``s`` maps unknown ``e``'s field ``v_e`` to
+    ``R_s v_e(g_s^{-1} x) = sign[s, e] v_{map[s, e]}(x)``.
+
+    A reflection maps a tip to a tip (``tol``) and its local angle ``theta`` to ``-theta``, so the
+    Williams fields (extrinsic MLS, unknowns ``2 t + mode``) keep mode I (+1) and reverse mode II
+    (-1), and the PU unknowns ``8 j + 2 i + c`` (enriched node ``j``, branch function ``i``,
+    component ``c``) go to node ``node_act[s, j]`` with the parity of ``F_i``
+    (:data:`BRANCH_PARITY`) times ``R_s[c, c]`` (parities to the power of the number of
+    reflections in ``s``).
+
+    Raises
+    ------
+    ValueError
+        When the enrichment is not mirror-symmetric (a PU node enriched by a tip whose image
+        node is enriched by another tip, e.g. a node halfway between two tips).
+    """
+    R, c = image_group(lines)
+    n_g = len(R)
+    odd = np.array([bin(s).count("1") % 2 for s in range(n_g)])[:, None]  # reflections in s
+    tip_x = np.array([g.tip.x for g in enrichment.tips])
+    tip_img = np.zeros((n_g, len(tip_x)), np.int64)
+    for s in range(n_g):  # tiny fixed size
+        d, tip_img[s] = cKDTree(tip_x).query(tip_x @ R[s].T + c[s])
+        if np.any(d > tol):
+            raise ValueError("the crack tips of the whole body are not mirror images of each other")
+    if enrichment.kind == "extrinsic_mls":
+        e = np.arange(enrichment.n_extra)
+        t, mode = e // 2, e % 2
+        return 2 * tip_img[:, t] + mode, np.where(mode[None] == 1, (-1.0) ** odd, 1.0)
+    if enrichment.kind != "pu":
+        raise ValueError(f"no extrinsic unknowns in enrichment {enrichment.kind!r}")
+    e = np.arange(enrichment.n_extra)
+    j, i, comp = e // 8, e % 8 // 2, e % 2
+    where = np.full(node_act.shape[1], -1)
+    where[enrichment.pu_nodes] = np.arange(len(enrichment.pu_nodes))
+    jn = where[node_act[:, enrichment.pu_nodes[j]]]
+    if np.any(jn < 0) or np.any(enrichment.pu_tip[jn] != tip_img[:, enrichment.pu_tip[j]]):
+        raise ValueError(
+            "enrichment='pu' is not mirror-symmetric on this cloud: a node and its image are "
+            "enriched by tips that are not each other's images (a node about as far from two "
+            "tips). Give a smaller enrich_radius, or enrichment='none'")
+    return 8 * jn + 2 * i + comp, BRANCH_PARITY[i][None] ** odd * R[:, comp, comp]
 
 
 def without_mirror_conditions(scene):
