@@ -26,13 +26,16 @@ def _quiet(f, *a, **k):
         return f(*a, **k)
 
 
-def test_tied_field_is_the_symmetric_field_of_the_mirrored_cloud():
+@pytest.mark.parametrize("enrichment", [dict(enrichment="none", spacing=0.25),
+                                        dict(enrichment="pu", enrich_radius=0.1, spacing=0.1)])
+def test_tied_field_is_the_symmetric_field_of_the_mirrored_cloud(enrichment):
     # quarter CCT: u(g x) = R_g u(x) for every element g of the mirror group, and u_n = 0 on
-    # the lines, for arbitrary part coefficients (rounding: measured <= 2.3e-16 and 8e-18)
+    # the lines, for arbitrary part coefficients, with the PU unknowns tied too (rounding:
+    # measured <= 6.2e-16 and 8e-18)
     sc = cct(0.5, 1.0, model="quarter")
-    d = discretize(sc, EFG(spacing=0.25, bc="lagrange", enrichment="none"))
+    d = discretize(sc, EFG(bc="lagrange", **enrichment))
     tie_ = d.images
-    assert tie_.T.shape == (2 * d.nodes.n, len(tie_.free)) and d.nodes.n > 3 * tie_.n_part
+    assert tie_.T.shape[0] == d.n_dofs and d.nodes.n > 3 * tie_.n_part
     b = np.random.default_rng(0).normal(size=tie_.T.shape[1])
     a = tie_.T @ b
     x = d.points.x[:: max(1, len(d.points.x) // 200)]
@@ -60,15 +63,18 @@ def _full_on_mirrored_cloud(part, full, method):
     return ps, fs
 
 
-@pytest.mark.parametrize("specimen, model, bc, h", [
-    ("cct", "quarter", "lagrange", 0.2), ("cct", "half", "penalty", 0.2),
-    ("SENT", "half", "lagrange", 1.0), ("SENT", "half", "variational", 1.0)])
-def test_part_equals_the_full_model_on_the_mirrored_cloud(specimen, model, bc, h):
-    # the Galerkin solution over the tied space is the full model's (same MLS functions,
-    # mirror-symmetric quadrature): K_I, T, J equal up to rounding in the linear solve, measured
-    # 7e-15 (cct quarter), 8e-15 (cct half, penalty), 5e-14 (SENT, both); bound 1e-12
+@pytest.mark.parametrize("specimen, model, bc, h, enrichment", [
+    ("cct", "quarter", "lagrange", 0.2, "none"), ("cct", "half", "penalty", 0.2, "none"),
+    ("cct", "quarter", "lagrange", 0.1, "pu"), ("SENT", "half", "lagrange", 1.0, "none"),
+    ("SENT", "half", "variational", 1.0, "none"), ("SENT", "half", "lagrange", 2.0, "extrinsic_mls")])
+def test_part_equals_the_full_model_on_the_mirrored_cloud(specimen, model, bc, h, enrichment):
+    # the Galerkin solution over the tied space is the full model's (same MLS functions and
+    # enrichment, mirror-symmetric quadrature): K_I, T, J equal up to rounding in the linear
+    # solve, measured 7e-15 (cct quarter), 8e-15 (cct half, penalty), 5e-14 (SENT), and with
+    # the enrichment unknowns tied 1.2e-13 (PU, quarter) and 3.4e-14 (extrinsic MLS, SENT);
+    # bound 1e-12
     build = (lambda m: cct(0.5, 1.0, model=m)) if specimen == "cct" else (lambda m: sent_seed001(model=m))
-    method = EFG(spacing=h, bc=bc, enrichment="none")
+    method = EFG(spacing=h, bc=bc, enrichment=enrichment, enrich_radius=h if enrichment == "pu" else None)
     ps, fs = _full_on_mirrored_cloud(build(model), build("full"), method)
     part = {r.tip.id: r for r in _quiet(ps.sifs, radii=RADII[specimen], error=False)}
     full = {r.tip.id: r for r in _quiet(fs.sifs, radii=RADII[specimen], error=False)}
@@ -93,16 +99,17 @@ HALF = cct(0.5, 1.0, model="half")
 
 
 @pytest.mark.parametrize("scene, method, err, match", [
-    (HALF, EFG(spacing=0.25, enrichment="pu"), ValueError, "take no enrichment='pu'"),
+    (cct(0.5, 1.0, model="quarter"), EFG(spacing=0.25, enrichment="pu", enrich_radius=0.25), ValueError,
+     "enrichment='pu' is not mirror-symmetric on this cloud"),
     (HALF, EFG(spacing=0.25, bc="modified_mls"), ValueError, "take no bc='modified_mls'"),
     (HALF, EFG(spacing=0.25, rosette=Rosette(0.1)), ValueError, "take no a rosette"),
     (replace(HALF, cracks=(Crack([[-0.2, 0.5], [0.2, 0.5]], tips=(True, True), name="off"),)),
      EFG(spacing=0.25), ValueError, "take no cracks off the symmetry lines"),
-    (replace(HALF, supports=(Support("ligament", uy=0.1),)), EFG(spacing=0.25), ValueError,
+    (replace(HALF, supports=(Support("ligament", uy=0.1),)), EFG(spacing=0.5, enrichment="none"), ValueError,
      "prescribes uy = 0.1"),
-    (replace(HALF, point_supports=(PointSupport((-1.0, 0.0), ux=0.0, uy=1.0),)), EFG(spacing=0.25),
+    (replace(HALF, point_supports=(PointSupport((-1.0, 0.0), ux=0.0, uy=1.0),)), EFG(spacing=0.5, enrichment="none"),
      ValueError, "prescribes uy = 1.0"),
-    (replace(HALF, point_supports=()), EFG(spacing=0.25), RigidBodyModeError,
+    (replace(HALF, point_supports=()), EFG(spacing=0.5, enrichment="none"), RigidBodyModeError,
      "translation along its symmetry line"),
 ])
 def test_refusals(scene, method, err, match):
