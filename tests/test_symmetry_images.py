@@ -138,3 +138,17 @@ def test_supports_on_the_lines_keep_their_tangential_part():
     sc = without_mirror_conditions(replace(q, supports=(Support("ligament", uy=0.0),
                                                         Support("left", ux=0.0, uy=0.0))))
     assert sc.supports == (Support("left", uy=0.0),) and isinstance(sc, Scene)
+
+
+def test_dynamic_runs_of_a_half_model_are_refused():
+    from efgkit import Elastic
+    from efgkit.explicit.system import dynamics
+
+    sc = replace(HALF, material=Elastic(1.0, 0.3, rho=1.0), duration=1.0)
+    with pytest.raises(ValueError, match="dynamic EFG runs of half and quarter models"):
+        _quiet(dynamics, sc, EFG(spacing=0.5, enrichment="none"))
+
+
+def test_collocation_is_refused():
+    with pytest.raises(ValueError, match="take no bc='collocation'"):
+        _quiet(solve, HALF, EFG(spacing=0.5, bc="collocation", enrichment="none"))
