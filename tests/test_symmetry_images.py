@@ -96,6 +96,7 @@ def test_reaction_on_the_symmetry_line_is_refused():
 
 
 HALF = cct(0.5, 1.0, model="half")
+PLAIN = EFG(spacing=0.5, enrichment="none")
 
 
 @pytest.mark.parametrize("scene, method, err, match", [
@@ -105,11 +106,10 @@ HALF = cct(0.5, 1.0, model="half")
     (HALF, EFG(spacing=0.25, rosette=Rosette(0.1)), ValueError, "take no a rosette"),
     (replace(HALF, cracks=(Crack([[-0.2, 0.5], [0.2, 0.5]], tips=(True, True), name="off"),)),
      EFG(spacing=0.25), ValueError, "take no cracks off the symmetry lines"),
-    (replace(HALF, supports=(Support("ligament", uy=0.1),)), EFG(spacing=0.5, enrichment="none"), ValueError,
-     "prescribes uy = 0.1"),
-    (replace(HALF, point_supports=(PointSupport((-1.0, 0.0), ux=0.0, uy=1.0),)), EFG(spacing=0.5, enrichment="none"),
+    (replace(HALF, supports=(Support("ligament", uy=0.1),)), PLAIN, ValueError, "prescribes uy = 0.1"),
+    (replace(HALF, point_supports=(PointSupport((-1.0, 0.0), ux=0.0, uy=1.0),)), PLAIN,
      ValueError, "prescribes uy = 1.0"),
-    (replace(HALF, point_supports=()), EFG(spacing=0.5, enrichment="none"), RigidBodyModeError,
+    (replace(HALF, point_supports=()), PLAIN, RigidBodyModeError,
      "translation along its symmetry line"),
 ])
 def test_refusals(scene, method, err, match):

@@ -20,8 +20,8 @@ support rule), linear basis, no enrichment on either (the part's tips get none),
 Lagrange multipliers; the part's approximation holds the image nodes of its cloud, tied to
 the part's coefficients by the reflections (``efgkit.system.images``). Method
 ``efg_enriched``: the same with the whole body's automatic enrichment on both (CCT: PU,
-radius h; SENT: extrinsic MLS), its unknowns tied too (full mode; quick mode the SENT only). K_I and T are taken
-over the same J domains. Metric ``rel_diff``: for each ``specimen/method/model``, max over
+radius h; SENT: extrinsic MLS), its unknowns tied too (full mode; quick mode the SENT only).
+K_I and T are taken over the same J domains. Metric ``rel_diff``: for each ``specimen/method/model``, max over
 the modelled tips of |K_I / K_I,full - 1| and |T / T_full - 1|. Full mode also records the
 FEM full model meshed on its own (``rel_diff_independent_mesh``) and EFG at a second,
 coarser spacing (``rel_diff_efg_coarse``).
