@@ -168,10 +168,12 @@ def solve(scene: Scene, method: EFG | MLPG, disc: Discretization | None = None, 
     sw.lap("constraints")
     modes = np.zeros((disc.n_dofs, 3))
     modes[: 2 * disc.nodes.n] = rigid_body_modes(disc.nodes.x)
-    aux = lambda: auxiliary_space(disc)  # noqa: E731
-    if disc.images is not None:  # a half or quarter model: image coefficients tied (system.images)
+    aux, solver = (lambda: auxiliary_space(disc)), m.solver
+    if disc.images is not None:  # a half or quarter model: image coefficients tied (system.images);
+        # no auxiliary space for the tied (component-wise) functions: "auto" is SuperLU
         system, modes, aux, K = disc.images.reduce(system), disc.images.part_modes(modes), None, None
-    z, info = linear_solve(system, m.solver, near_nullspace=modes, auxiliary=aux, stiffness=K)
+        solver = "direct" if solver == "auto" else solver
+    z, info = linear_solve(system, solver, near_nullspace=modes, auxiliary=aux, stiffness=K)
     coefficients = system.coefficients(z)
     forces = system.support_forces(z) if system.support_forces is not None else None
     sw.lap("solve")
