@@ -19,7 +19,8 @@ or 1; the components with 0 are no unknowns. The part's system is ``T^T A T`` ov
 quadrature (the full model's restricted to the part, weights on a line halved), whose energy is
 half the full model's for every tied field: the Galerkin solution is the full model's on the
 mirrored cloud. The symmetry condition u_n = 0 on the lines holds identically and is imposed by
-no constraint (docs/theory.md, "Image nodes").
+no constraint (docs/theory.md, "Image nodes"). The extrinsic enrichment unknowns (extrinsic
+MLS, PU) are tied likewise (:func:`extra_action`): mode I kept, mode II eliminated on a line.
 """
 
 from __future__ import annotations
@@ -56,7 +57,14 @@ def image_positions(x: np.ndarray, lines, tol: float) -> tuple[np.ndarray, np.nd
     ``y[U[s, I]]`` is element ``s`` of :func:`image_group` applied to node ``I``; images within
     ``tol`` of a node already listed (nodes on a line) are that node. ``y`` starts with ``x``
     and lists new images in group order (the order of the mirror-union clouds of
-    ``verification/symmetry.py``)."""
+    ``verification/symmetry.py``).
+
+    Examples
+    --------
+    >>> y, U = image_positions(np.array([[1.0, 0.0], [1.0, 1.0]]), (((0.0, 0.0), (0.0, 1.0)),), 1e-9)
+    >>> y.tolist(), U.tolist()   # the node on the line y = 0 is its own image
+    ([[1.0, 0.0], [1.0, 1.0], [1.0, -1.0]], [[0, 1], [0, 2]])
+    """
     R, c = image_group(lines)
     y, U = x, np.zeros((len(R), len(x)), dtype=np.int64)
     U[0] = np.arange(len(x))
@@ -103,10 +111,6 @@ class ImageTie:
     free: np.ndarray
     n_part: int
     translations: np.ndarray
-
-    def matrix(self, K) -> csr_array:
-        """``T^T K T`` of an operator over the mirrored cloud's coefficients."""
-        return csr_array(self.T.T @ csr_array(K) @ self.T)
 
     def reduce(self, system: LinearSystem) -> LinearSystem:
         """The system over the part's free unknowns (and the multipliers, if any):
