@@ -26,6 +26,7 @@ from .methods.discretize import Discretization, discretize
 from .methods.efg import EFG
 from .methods.mlpg import MLPG
 from .problem.scene import Scene
+from .problem.symmetry import without_mirror_conditions
 from .system.assemble import stiffness
 from .system.auxiliary import AuxiliarySpace
 from .system.collocation import collocation
@@ -37,7 +38,6 @@ from .system.constraints import (
     penalty,
     rigid_body_modes,
 )
-from .system.images import without_mirror_conditions
 from .system.linalg import solve as linear_solve
 from .timing import Stopwatch
 

@@ -132,7 +132,7 @@ def test_tie_refuses_lines_off_the_axes_and_eliminating_systems():
 def test_supports_on_the_lines_keep_their_tangential_part():
     # Support("left", ux=0, uy=0) on a quarter's line x = 0: u_x = 0 is the symmetry's (held by
     # the tie), u_y = 0 a real restraint; the tangential part stays
-    from efgkit.system.images import without_mirror_conditions
+    from efgkit.problem.symmetry import without_mirror_conditions
 
     q = cct(0.5, 1.0, model="quarter")
     sc = without_mirror_conditions(replace(q, supports=(Support("ligament", uy=0.0),

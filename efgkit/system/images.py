@@ -25,7 +25,7 @@ MLS, PU) are tied likewise (:func:`extra_action`): mode I kept, mode II eliminat
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.sparse import block_diag, coo_array, csr_array, identity
@@ -35,7 +35,7 @@ from ..problem.symmetry import reflection
 from .constraints import LinearSystem, RigidBodyModeError
 
 __all__ = ["BRANCH_PARITY", "ImageTie", "TiedSystem", "extra_action", "image_group", "image_positions",
-           "part_weights", "tie", "without_mirror_conditions"]
+           "part_weights", "tie"]
 
 
 def image_group(lines) -> tuple[np.ndarray, np.ndarray]:
@@ -304,43 +304,3 @@ def extra_action(enrichment, node_act: np.ndarray, lines, tol: float) -> tuple[n
             "tips). Give a smaller enrich_radius, or enrichment='none'")
     return 8 * jn + 2 * i + comp, BRANCH_PARITY[i][None] ** odd * R[:, comp, comp]
 
-
-def without_mirror_conditions(scene):
-    """``scene`` without the conditions u_n = 0 on its mirror lines, which the tie holds
-    identically (a constraint row would be zero): the normal component of a
-    :class:`~efgkit.problem.scene.Support` on a named edge lying on a line, and of a
-    :class:`~efgkit.problem.supports.PointSupport` on a line, is dropped.
-
-    Raises
-    ------
-    ValueError
-        When such a condition prescribes u_n other than 0 (symmetry holds u_n = 0 there).
-    """
-    tol = 1e-9 * scene.domain.size
-
-    def normal_key(points):
-        k = scene.symmetry.line_of(points, tol)
-        return None if k is None else "ux" if abs(scene.symmetry.lines[k][1][0]) > 0 else "uy"
-
-    def reduced(sup, key, where):
-        v = getattr(sup, key)
-        if v is None:
-            return sup
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or v != 0:
-            raise ValueError(f"{where} lies on a symmetry line and prescribes {key} = {v!r}: a half "
-                             f"or quarter model has {key} = 0 there by symmetry; remove it or give 0")
-        other = "uy" if key == "ux" else "ux"
-        return None if getattr(sup, other) is None else replace(sup, **{key: None})
-
-    supports = []
-    for s in scene.supports:
-        key = None if callable(s.edge) else normal_key(
-            np.vstack([e.polyline() for e in scene.domain.edges(s.edge)]))
-        s = s if key is None else reduced(s, key, f"support on {s.edge!r}")
-        supports += [] if s is None else [s]
-    points = []
-    for s in scene.point_supports:
-        key = normal_key(np.asarray([s.x]))
-        s = s if key is None else reduced(s, key, f"point support at {s.x}")
-        points += [] if s is None else [s]
-    return replace(scene, supports=tuple(supports), point_supports=tuple(points))
