@@ -103,7 +103,7 @@ PLAIN = EFG(spacing=0.5, enrichment="none")
     (cct(0.5, 1.0, model="quarter"), EFG(spacing=0.25, enrichment="pu", enrich_radius=0.25), ValueError,
      "enrichment='pu' is not mirror-symmetric on this cloud"),
     (HALF, EFG(spacing=0.25, bc="modified_mls"), ValueError, "take no bc='modified_mls'"),
-    (HALF, EFG(spacing=0.25, rosette=Rosette(0.1)), ValueError, "take no a rosette"),
+    (HALF, EFG(spacing=0.25, rosette=Rosette(0.1)), ValueError, "take no rosette"),
     (replace(HALF, cracks=(Crack([[-0.2, 0.5], [0.2, 0.5]], tips=(True, True), name="off"),)),
      EFG(spacing=0.25), ValueError, "take no cracks off the symmetry lines"),
     (replace(HALF, supports=(Support("ligament", uy=0.1),)), PLAIN, ValueError, "prescribes uy = 0.1"),

@@ -225,7 +225,7 @@ def _mirrored(scene: Scene, method: EFG, sw: Stopwatch) -> Discretization:
     why = ("cracks off the symmetry lines (their images are not built)" if scene.cracks else
            f"bc={method.bc!r} (it eliminates coefficients; use 'lagrange', 'penalty' or "
            "'variational')" if method.bc in ("modified_mls", "collocation") else
-           "a rosette (use zones)" if method.rosette is not None else None)
+           "rosette (use zones)" if method.rosette is not None else None)
     if why:
         raise ValueError(f"scene {scene.name!r}: EFG half and quarter models (symmetry) take no {why}")
     part = generate_nodes(scene.domain, method)
