@@ -185,12 +185,21 @@ class MeshlessSolution(Solution):
 
         A solution without ``support_forces`` (from a driver that does not record them)
         integrates ``sigma n`` along the edge instead, with the discretisation error of
-        the boundary stresses.
+        the boundary stresses. An edge on a symmetry line of an EFG half or quarter model is
+        held by the image nodes (:mod:`efgkit.system.images`), not by a support: ValueError.
         """
         scene = self.scene
         if isinstance(edge, str) and edge not in scene.domain.edge_names:
             raise ValueError(f"no edge named {edge!r}; the domain's edges are "
                              f"{sorted(scene.domain.edge_names)}")
+        if getattr(self.disc, "images", None) is not None and isinstance(edge, str) and \
+                scene.symmetry.line_of(np.vstack([e.polyline() for e in scene.domain.edges(edge)]),
+                                       1e-9 * scene.domain.size) is not None:
+            raise ValueError(
+                f"edge {edge!r} lies on a symmetry line of this EFG half or quarter model: the image "
+                "nodes hold it, not a support, so it has no support force (and sigma n along it is "
+                "singular at the tip). Take its force from the part's equilibrium: minus the "
+                "applied loads and the other edges' reactions")
         if self.support_forces is None:
             from .quadrature.boundary import boundary_points
 

@@ -391,12 +391,13 @@ def _split_on_cracks(cloud: NodeCloud, cracks, spacing: np.ndarray, keep_single:
     split = np.flatnonzero(seg_of >= 0)
     # put the split nodes exactly on their segment (they were within 1e-6 h of it): a node a
     # hair off the line would see across it by rounding and give slivers in the tip fans
+    # (moved along the segment's normal only: a node already on it keeps its coordinates, so a
+    # mirror-symmetric cloud stays symmetric to the bit, efgkit.system.images)
     segs = np.concatenate([c.segments for c in cracks])[seg_of[split]]
     ab = segs[:, 1] - segs[:, 0]
-    t = np.clip(np.einsum("nd,nd->n", x[split] - segs[:, 0], ab) / np.einsum("nd,nd->n", ab, ab),
-                0.0, 1.0)
+    nrm = np.column_stack([-ab[:, 1], ab[:, 0]]) / np.hypot(*ab.T)[:, None]
     x = x.copy()
-    x[split] = segs[:, 0] + t[:, None] * ab
+    x[split] -= np.einsum("nd,nd->n", x[split] - segs[:, 0], nrm)[:, None] * nrm
     order = np.concatenate([np.arange(len(x)), split])
     face = np.zeros(len(order), np.int8)
     face[split] = 1

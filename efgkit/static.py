@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import time
 import warnings
+from dataclasses import replace
 
 import numpy as np
 from scipy.sparse import csr_array
@@ -25,10 +26,18 @@ from .methods.discretize import Discretization, discretize
 from .methods.efg import EFG
 from .methods.mlpg import MLPG
 from .problem.scene import Scene
+from .problem.symmetry import without_mirror_conditions
 from .system.assemble import stiffness
 from .system.auxiliary import AuxiliarySpace
 from .system.collocation import collocation
-from .system.constraints import eliminate, lagrange, modified_variational, penalty, rigid_body_modes
+from .system.constraints import (
+    LinearSystem,
+    eliminate,
+    lagrange,
+    modified_variational,
+    penalty,
+    rigid_body_modes,
+)
 from .system.linalg import solve as linear_solve
 from .timing import Stopwatch
 
@@ -64,6 +73,11 @@ def constrained_system(disc: Discretization, K, f: np.ndarray, method: EFG | Non
     :class:`~efgkit.system.constraints.LinearSystem` to solve."""
     m, mat = method or disc.method, disc.scene.material
     h = m.spacing
+    check = getattr(disc, "images", None) is None  # half/quarter model: ImageTie.reduce checks
+    if not check:
+        disc = replace(disc, scene=without_mirror_conditions(disc.scene))
+        if not (disc.scene.supports or disc.scene.point_supports):  # the tie holds them all
+            return LinearSystem(csr_array(K), f, spd=True, n_coeffs=K.shape[0])
     if m.bc == "modified_mls":
         dofs, vals = eliminated_dofs(disc)
         springs = point_springs(disc, (m.penalty or DEFAULT_PENALTY) * mat.E)  # point supports
@@ -79,11 +93,11 @@ def constrained_system(disc: Discretization, K, f: np.ndarray, method: EFG | Non
         return collocation(K - gamma_u_term(disc), f, rows, vals, dofs, disc.nodes.x)
     bc = essential_conditions(disc, derivatives=m.bc == "variational")
     if m.bc == "penalty":
-        return penalty(K, f, bc, (m.penalty or DEFAULT_PENALTY) * mat.E / h, disc.nodes.x)
+        return penalty(K, f, bc, (m.penalty or DEFAULT_PENALTY) * mat.E / h, disc.nodes.x, check)
     if m.bc == "lagrange":
-        return lagrange(K, f, bc, disc.nodes.x)
+        return lagrange(K, f, bc, disc.nodes.x, check)
     beta = (m.penalty or DEFAULT_STABILISATION) * mat.E / h
-    return modified_variational(K, f, bc, mat.D, beta, disc.nodes.x)
+    return modified_variational(K, f, bc, mat.D, beta, disc.nodes.x, check)
 
 
 def solve(scene: Scene, method: EFG | MLPG, disc: Discretization | None = None, K=None,
@@ -154,8 +168,12 @@ def solve(scene: Scene, method: EFG | MLPG, disc: Discretization | None = None, 
     sw.lap("constraints")
     modes = np.zeros((disc.n_dofs, 3))
     modes[: 2 * disc.nodes.n] = rigid_body_modes(disc.nodes.x)
-    z, info = linear_solve(system, m.solver, near_nullspace=modes,
-                                auxiliary=lambda: auxiliary_space(disc), stiffness=K)
+    aux, solver = (lambda: auxiliary_space(disc)), m.solver
+    if disc.images is not None:  # a half or quarter model: image coefficients tied (system.images);
+        # no auxiliary space for the tied (component-wise) functions: "auto" is SuperLU
+        system, modes, aux, K = disc.images.reduce(system), disc.images.part_modes(modes), None, None
+        solver = "direct" if solver == "auto" else solver
+    z, info = linear_solve(system, solver, near_nullspace=modes, auxiliary=aux, stiffness=K)
     coefficients = system.coefficients(z)
     forces = system.support_forces(z) if system.support_forces is not None else None
     sw.lap("solve")

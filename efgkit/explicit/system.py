@@ -208,6 +208,10 @@ def dynamics(scene: Scene, method: EFG | MLPG, disc: Discretization | None = Non
     if bc_auto:
         method = replace(method, bc="lagrange")  # projection: the stable step is not lowered
     disc = discretize(scene, method) if disc is None else disc
+    if getattr(disc, "images", None) is not None:
+        raise ValueError(f"scene {scene.name!r}: dynamic EFG runs of half and quarter models "
+                         "(symmetry) are not supported (the image nodes are tied in static solves "
+                         "only); model the whole body")
     timings = {}
     t0 = time.perf_counter()
     mat = scene.material

@@ -20,14 +20,15 @@ from ..approx.enrichment import INTRINSIC, Enrichment
 from ..approx.hole_rules import Holes
 from ..approx.shape import Shape
 from ..approx.tip_functions import TipGeometry
-from ..nodes import NodeCloud, check_memory, generate_nodes
+from ..nodes import NodeCloud, check_memory, generate_nodes, support_radii
 from ..problem.geometry import Domain, Edge
 from ..problem.scene import Scene
 from ..quadrature.cells import cell_points, triangle_points
 from ..quadrature.rules import Points
 from ..search import BoxGrid, find_neighbours
+from ..system.images import image_group, image_positions, part_weights, tie
 from ..timing import Stopwatch
-from .efg import EFG
+from .efg import EFG, Zone
 from .size import size_estimate
 
 __all__ = ["Discretization", "discretize", "support_edges", "crack_mouths", "essential_nodes",
@@ -60,6 +61,10 @@ class Discretization:
         ``points`` is none (MLPG's discs overlap); None: ``points`` is one.
     local : object, optional
         MLPG: the boundary pieces of the sub-domains (:class:`efgkit.methods.local.LocalBoundary`).
+    images : ImageTie, optional
+        A half or quarter model (``scene.symmetry``): ``nodes``, ``approx`` and ``shape`` are
+        those of the mirrored cloud (the part's nodes and their images), ``points`` the
+        part's, and the coefficients are tied by :class:`efgkit.system.images.ImageTie`.
     """
 
     scene: Scene
@@ -72,6 +77,7 @@ class Discretization:
     test: Shape | None = None
     field_points: Points | None = None
     local: object = None
+    images: object = None
 
     @property
     def post_points(self) -> Points:
@@ -177,6 +183,8 @@ def discretize(scene: Scene, method: EFG) -> Discretization:
                  "zone spacings) would fit; refine only where needed (zones near tips, holes and "
                  "corners), or lower d_max or order.")
     sw.lap("setup")
+    if scene.symmetry is not None:
+        return _mirrored(scene, method, sw)
     nodes = generate_nodes(scene.domain, method, scene.cracks)
     interpolate = None
     if method.bc == "modified_mls":
@@ -207,6 +215,61 @@ def discretize(scene: Scene, method: EFG) -> Discretization:
     shape = approx.shape(points.x, neighbours=nb)
     sw.lap("shape")
     return Discretization(scene, method, nodes, points, shape, approx, sw.timings)
+
+
+def _mirrored(scene: Scene, method: EFG, sw: Stopwatch) -> Discretization:
+    """A half or quarter model on the mirrored cloud, its coefficients tied to the part's
+    (:mod:`efgkit.system.images`): the full model's MLS functions and quadrature (restricted to
+    the part) on the part's nodes and their images."""
+    sym, full = scene.symmetry, scene.full()
+    why = ("cracks off the symmetry lines (their images are not built)" if scene.cracks else
+           f"bc={method.bc!r} (it eliminates coefficients; use 'lagrange', 'penalty' or "
+           "'variational')" if method.bc in ("modified_mls", "collocation") else
+           "rosette (use zones)" if method.rosette is not None else None)
+    if why:
+        raise ValueError(f"scene {scene.name!r}: EFG half and quarter models (symmetry) take no {why}")
+    part = generate_nodes(scene.domain, method)
+    tol = 1e-9 * scene.domain.size
+    y, U = image_positions(part.x, sym.lines, tol)
+    cloud = generate_nodes(full.domain, replace(method, coordinates=y, zones=(), perturb=0.0),
+                           full.cracks)
+    origin, side = np.arange(cloud.n), np.zeros((cloud.n, 2))
+    if cloud.face is not None:  # nodes on the crack: one per face
+        origin[len(y):] = np.flatnonzero(cloud.face[: len(y)] == 1)
+        k = np.flatnonzero(cloud.face != 0)
+        seg = np.concatenate([c.segments for c in full.cracks])[cloud.face_segment[k]]
+        e = seg[:, 1] - seg[:, 0]
+        side[k] = cloud.face[k, None] * np.column_stack([-e[:, 1], e[:, 0]])
+    # the exact mirror positions (splitting put the face nodes on the crack with rounding that
+    # differs between a node and its image, which tips rules decided at ties, e.g. PU's radius)
+    nodes = NodeCloud(y[origin], support_radii(y, method.d_max, method.regular)[origin],
+                      cloud.boundary, cloud.face, cloud.face_segment)
+    sides = np.array([np.sign(((part.x - p) @ n).sum()) for p, n in sym.lines])
+    sw.lap("nodes")
+    if method.quadrature == "cells":
+        R, c = image_group(sym.lines)
+        zones = {(tuple(np.round(R[s] @ z.centre + c[s], 12)), z.radius, z.spacing): None
+                 for z in method.zones for s in range(len(R))}
+        pts = cell_points(full.domain, method.cell_size or method.spacing, method.order,
+                          zones=tuple(Zone(*z) for z in zones) + method.tip_cell_zones(full),
+                          refined_order=method.refined_order, cracks=full.cracks,
+                          tip_rays=shadow_rays(full, nodes), tip_order=method.tip_order)
+        f = part_weights(pts.x, sym.lines, sides, tol)
+        points = Points(pts.x[f > 0], pts.w[f > 0] * f[f > 0], pts.owner[f > 0])
+    else:
+        points = triangle_points(scene.domain, part.x, method.order)
+    sw.lap("quadrature")
+    approx = approximation(full, method, nodes)
+    images = tie(sym.lines, U, origin, side, sides, approx.enrichment, tol)
+    sw.lap("approximation")
+    order = np.argsort(approx.boxes.box_of(points.x), kind="stable")
+    points = Points(points.x[order], points.w[order],
+                    None if points.owner is None else points.owner[order])
+    nb = find_neighbours(points.x, nodes, approx.boxes)
+    sw.lap("search")
+    shape = approx.shape(points.x, neighbours=nb)
+    sw.lap("shape")
+    return Discretization(scene, method, nodes, points, shape, approx, sw.timings, images=images)
 
 
 def shadow_rays(scene: Scene, nodes: NodeCloud) -> list[np.ndarray]:

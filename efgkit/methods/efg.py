@@ -379,6 +379,9 @@ class EFG(MeshlessChoices):
         'penalty'
         """
         kw = self.automatic_choices(scene)
+        if self.enrichment == "auto" and _symmetry_tips(scene) and self.crack_rule != "visibility":
+            # a half or quarter model: the whole body's tips decide (image nodes, system.images)
+            kw |= self.automatic_choices(scene.full()) | {"zones": kw["zones"]}
         if self.bc == "auto":
             kw["bc"] = "lagrange" if scene.tips or _symmetry_tips(scene) else "penalty"
         return replace(self, **kw) if kw else self

@@ -12,14 +12,14 @@ the modelled tips from the fields mirrored onto the whole body (:func:`full_scen
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from .crack import Crack
 from .geometry import Domain, Loop
 
-__all__ = ["Symmetry", "full_domain", "mirror_fields", "reflection"]
+__all__ = ["Symmetry", "full_domain", "mirror_fields", "reflection", "without_mirror_conditions"]
 
 
 def reflection(point, normal) -> tuple[np.ndarray, np.ndarray]:
@@ -80,6 +80,12 @@ class Symmetry:
             if not any(_on_line(c.vertices, p, n, 1e-9 * max(c.length, 1.0)).all() for p, n in lines):
                 raise ValueError(f"symmetry crack {c.name!r} does not lie on a symmetry line; a crack "
                                  "off the lines belongs in Scene.cracks")
+
+    def line_of(self, x, tol: float) -> int | None:
+        """Index of the line all points ``x (n, 2)`` lie on (within ``tol``), else None."""
+        x = np.asarray(x, dtype=float).reshape(-1, 2)
+        return next((k for k, (p, n) in enumerate(self.lines)
+                     if len(x) and _on_line(x, p, n, tol).all()), None)
 
     def modelled_tips(self, domain: Domain) -> tuple:
         """The tips of :attr:`cracks` on the model's boundary (its own tips)."""
@@ -160,3 +166,44 @@ def mirror_fields(symmetry: Symmetry, x, w, stress, grad):
         stress = np.vstack([stress, np.column_stack([Sm[:, 0, 0], Sm[:, 1, 1], Sm[:, 0, 1]])])
         grad = np.concatenate([grad, np.einsum("ij,njk,kl->nil", R, grad, R)])
     return x, w, stress, grad
+
+
+def without_mirror_conditions(scene):
+    """``scene`` without the conditions u_n = 0 on its mirror lines, which the EFG image nodes
+    hold identically (:mod:`efgkit.system.images`; a constraint row would be zero): the normal component of a
+    :class:`~efgkit.problem.scene.Support` on a named edge lying on a line, and of a
+    :class:`~efgkit.problem.supports.PointSupport` on a line, is dropped.
+
+    Raises
+    ------
+    ValueError
+        When such a condition prescribes u_n other than 0 (symmetry holds u_n = 0 there).
+    """
+    tol = 1e-9 * scene.domain.size
+
+    def normal_key(points):
+        k = scene.symmetry.line_of(points, tol)
+        return None if k is None else "ux" if abs(scene.symmetry.lines[k][1][0]) > 0 else "uy"
+
+    def reduced(sup, key, where):
+        v = getattr(sup, key)
+        if v is None:
+            return sup
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or v != 0:
+            raise ValueError(f"{where} lies on a symmetry line and prescribes {key} = {v!r}: a half "
+                             f"or quarter model has {key} = 0 there by symmetry; remove it or give 0")
+        other = "uy" if key == "ux" else "ux"
+        return None if getattr(sup, other) is None else replace(sup, **{key: None})
+
+    supports = []
+    for s in scene.supports:
+        key = None if callable(s.edge) else normal_key(
+            np.vstack([e.polyline() for e in scene.domain.edges(s.edge)]))
+        s = s if key is None else reduced(s, key, f"support on {s.edge!r}")
+        supports += [] if s is None else [s]
+    points = []
+    for s in scene.point_supports:
+        key = normal_key(np.asarray([s.x]))
+        s = s if key is None else reduced(s, key, f"point support at {s.x}")
+        points += [] if s is None else [s]
+    return replace(scene, supports=tuple(supports), point_supports=tuple(points))

@@ -4,8 +4,12 @@ The body, material, cracks' geometry, supports and discretisation are the scene'
 top level); each case holds its whole load: ``tractions`` (an array of traction tables,
 as ``[[tractions]]``), ``body_force`` (as the top-level key) and ``crack_pressure`` (one
 number per ``[[cracks]]`` entry, in their order). A key a case leaves out is no load of
-that kind. The top level then holds no load of its own (no ``[[tractions]]``, no
-``body_force``, no crack ``pressure``): a ValueError says so, so that no load is
+that kind. A case may give its own prescribed values: ``supports`` and ``point_supports``
+(arrays of tables as ``[[supports]]`` and ``[[point_supports]]``) replace the top level's
+for that case, on the same edges and points with the same components (only the values may
+differ: :func:`~efgkit.loadcases.solve_cases` checks it); left out, the top level's hold.
+The top level then holds no load of its own (no ``[[tractions]]``, no ``body_force``, no
+crack ``pressure``): a ValueError says so, so that no load is
 silently added to or dropped from the cases. A scene without ``[[load_cases]]`` is read
 as before. :func:`efgkit.loadcases.solve_cases` solves the cases with one factorisation.
 
@@ -33,7 +37,7 @@ from .writer import scene_to_dict
 
 __all__ = ["CASE_KEYS", "cases_from_dict", "cases_to_list"]
 
-CASE_KEYS = ("name", "tractions", "body_force", "crack_pressure")
+CASE_KEYS = ("name", "tractions", "body_force", "crack_pressure", "supports", "point_supports")
 
 
 def _check_table(d, path: str) -> dict:
@@ -98,7 +102,8 @@ def cases_from_dict(d: dict) -> dict[str, Scene] | None:
                              f"load_cases[{list(cases).index(name)}]); give each case its own name")
         readers = SCHEMA[""][2]  # the top-level readers check the values, naming the key
         loads = {"tractions": (), "body_force": None} | {
-            k: readers[k](c[k], join_path(path, k)) for k in ("tractions", "body_force") if k in c}
+            k: readers[k](c[k], join_path(path, k))
+            for k in ("tractions", "body_force", "supports", "point_supports") if k in c}
         cracks = base.cracks
         if "crack_pressure" in c:
             ps = _pressures(c["crack_pressure"], join_path(path, "crack_pressure"), len(cracks))
@@ -112,11 +117,16 @@ def cases_from_dict(d: dict) -> dict[str, Scene] | None:
 def cases_to_list(cases: dict[str, Scene]) -> list[dict]:
     """The ``[[load_cases]]`` tables of ``{name: Scene}`` (inverse of :func:`cases_from_dict`):
     each case's name, tractions, body force and, where a crack is pressurised, the crack
-    pressures; empty loads are left out."""
+    pressures; empty loads are left out, and so are supports equal to the first case's (the
+    top level's)."""
     out = []
+    first = next(iter(cases.values()), None)
     for name, sc in cases.items():
         d = scene_to_dict(sc)
         case = {"name": name, **{k: d[k] for k in ("tractions", "body_force") if k in d}}
+        for k in ("supports", "point_supports"):
+            if getattr(sc, k) != getattr(first, k):
+                case[k] = d.get(k, [])
         if any(c.pressure != 0 for c in sc.cracks):
             case["crack_pressure"] = [c.pressure for c in sc.cracks]
         out.append(case)
