@@ -113,9 +113,16 @@ class Recorder:
         a = dyn.minv * (f - Ku)
         v = v_half + 0.5 * dt * a
         P = dyn.projection
+        if dyn.moving_supports:  # G v = (q(t+dt) - q(t-dt)) / 2dt, G a = its second difference
+            qm, q0, qp = (dyn.prescribed(max(t + s * dt, 0.0)) for s in (-1, 0, 1))
+            qv, qa = (qp - qm) / (2 * dt), (qp - 2 * q0 + qm) / dt ** 2
+        else:
+            qv = qa = 0.0
         if P is not None:  # = (v^{n-1/2} + v^{n+1/2}) / 2 and (v^{n+1/2} - v^{n-1/2}) / dt exactly
-            v = v - P.minv_GT @ P.lu.solve(P.G @ v)
-            a = a - P.minv_GT @ P.lu.solve(P.G @ a)
+            v = v - P.minv_GT @ P.lu.solve(P.G @ v - qv)
+            a = a - P.minv_GT @ P.lu.solve(P.G @ a - qa)
+        elif dyn.moving_supports:
+            v[dyn.fixed], a[dyn.fixed] = qv, qa
         r = self.rows
         kin = 0.5 * float(v @ (dyn.m * v))
         strain = 0.5 * float(u @ Ku)
