@@ -11,8 +11,8 @@ from .dsif import DynamicDSIF, dynamic_dsif, quasi_static_dsif
 from .integrate import BLOWUP_FACTOR, InstabilityError, State, initial_state, integrate, load_stepping
 from .result import DynamicSolution
 from .spectrum import growth_rate, stable_step
-from .system import Dynamics, dynamics, fit_coefficients, with_supports
+from .system import Dynamics, dynamics, fit_coefficients
 
 __all__ = ["BLOWUP_FACTOR", "DynamicDSIF", "DynamicSolution", "Dynamics", "InstabilityError", "State",
            "dynamic_dsif", "dynamics", "fit_coefficients", "growth_rate", "initial_state", "integrate",
-           "load_stepping", "quasi_static_dsif", "stable_step", "with_supports"]
+           "load_stepping", "quasi_static_dsif", "stable_step"]

@@ -53,7 +53,7 @@ from ..system.constraints import lagrange, modified_variational, penalty
 from ..system.mass import row_sum_mass
 from .moving import split_values, still_scene
 
-__all__ = ["Dynamics", "Projection", "dynamics", "fit_coefficients", "local_dynamics", "with_supports"]
+__all__ = ["Dynamics", "Projection", "dynamics", "fit_coefficients", "local_dynamics"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -285,28 +285,6 @@ def dynamics(scene: Scene, method: EFG | MLPG, disc: Discretization | None = Non
     timings["constraints"] = time.perf_counter() - t0
     return Dynamics(disc, _int32(csr_array(K)), m, minv, F, histories, f_bc, projection, fixed,
                     fixed_values, method.bc, timings, Q, qh if Q is not None else ())
-
-
-def with_supports(dyn: Dynamics, supports) -> Dynamics:
-    """The system ``dyn`` (bc="lagrange") with other supports: the same nodes, K, M and
-    loads, a new projection (and moving-support values). For supports that change during a
-    run on fixed nodes, e.g. a symmetry line released node by node
-    (:mod:`efgkit.growth.release`)."""
-    if dyn.bc != "lagrange":
-        raise ValueError(f"with_supports needs a system with bc='lagrange', got bc={dyn.bc!r}")
-    disc, K, n = dyn.disc, dyn.K, dyn.n_dofs
-    scene = disc.scene.with_supports(supports)
-    zero = np.zeros(n)
-
-    def q_of(s):
-        return lagrange(K, zero, essential_conditions(replace(disc, scene=s), derivatives=False),
-                        disc.nodes.x, check=False)
-
-    lin = q_of(still_scene(scene))
-    Q, qh = split_values(scene, lambda s: q_of(s).b[n:])
-    P = Projection.build(csr_array(lin.A[n:, :n]), lin.b[n:], dyn.minv)
-    return replace(dyn, disc=replace(disc, scene=scene), projection=P, Q=Q,
-                   q_histories=qh if Q is not None else ())
 
 
 def local_dynamics(scene: Scene, method: MLPG, disc: Discretization | None = None) -> Dynamics:
