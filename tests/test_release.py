@@ -62,9 +62,26 @@ def test_crack_runs_after_the_wave_arrives_and_below_rayleigh():
     assert r.open[:3].all() and r.history["t"].size > 10
 
 
+def test_side_crack_tips_are_followed():
+    sc, m = plate(1.0e-6)
+    r = run_release(sc, m, LineRelease(2500.0, 0.3, cracks=((1.0, 1.4),)))
+    x = r.tips["x"]
+    assert x.shape[1:] == (2, 2) and np.allclose(x[0], [[0.0, 0.3], [1.0, 1.4]])
+    # ends only move outwards; every recorded instant after the first has a release
+    assert np.all(np.diff(x[:, :, 1], axis=0) >= 0) and np.all(np.diff(x[:, :, 0], axis=0) <= 0)
+    assert len(r.tips["t"]) == len(np.unique(r.releases["t"])) + 1
+    # measured: the side crack's inner tip moves 1.0 -> 0.8, its outer 1.4 -> 1.5, then the
+    # ligament between the cracks fails and they run on as one (shared ends)
+    assert x[:, 1, 0].min() < 1.0 and x[:, 1, 1].max() > 1.4
+    assert np.allclose(x[-1, 0], x[-1, 1])
+
+
 @pytest.mark.parametrize("make, err, match", [
     (lambda: LineRelease(-1.0, 0.3), ValueError, "sigma_c must be a finite number > 0"),
     (lambda: LineRelease(1.0, 0.3, check_every=0), ValueError, "check_every must be an int >= 1"),
+    (lambda: LineRelease(1.0, 0.3, cracks=((1.0, 0.5),)), ValueError, "cracks must be pairs"),
+    (lambda: run_release(*plate(), LineRelease(1.0, 0.3, cracks=((1.0, 1.02),))), ValueError,
+     r"crack \(1.0, 1.02\) spans no segment"),
     (lambda: run_release(*plate(), rule=None), TypeError, "rule must be a LineRelease"),
     (lambda: run_release(*plate(), LineRelease(1.0, 0.3, y0=0.05)), ValueError,
      "the line y = 0.05 holds 0 nodes"),

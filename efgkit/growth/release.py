@@ -57,20 +57,27 @@ class LineRelease:
     """Release of the symmetry line ``y = y0`` (its nodes' ``u_y = 0`` support) where the
     maximum principal stress reaches ``sigma_c`` (stress units of the scene), checked
     every ``check_every`` steps; ``a0``: the initial crack, open from the line's first
-    node (smallest x) to ``a0`` (rounded to the nearest node); ``x_end``: the line ends
-    there (the far edge); nodes within ``tol`` of ``y0`` are on the line."""
+    node (smallest x, the centre of the body) over ``a0`` (rounded to the nearest node);
+    ``cracks``: further initial cracks on the line, ``((x_start, x_end), ...)`` (ends
+    rounded to the nearest nodes); nodes within ``tol`` of ``y0`` are on the line."""
 
     sigma_c: float
     a0: float
     y0: float = 0.0
     check_every: int = 1
     tol: float = 1e-9
+    cracks: tuple = ()
 
     def __post_init__(self):
         for name in ("sigma_c", "a0"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
                 raise ValueError(f"{name} must be a finite number > 0, got {v!r}")
+        c = np.asarray(self.cracks, float).reshape(-1, 2) if len(self.cracks) else np.zeros((0, 2))
+        if not (np.all(np.isfinite(c)) and np.all(c[:, 1] > c[:, 0])):
+            raise ValueError(f"cracks must be pairs (x_start, x_end) with x_end > x_start, "
+                             f"got {self.cracks!r}")
+        object.__setattr__(self, "cracks", tuple(map(tuple, c.tolist())))
         if isinstance(self.check_every, bool) or not isinstance(self.check_every, int) \
                 or self.check_every < 1:
             raise ValueError(f"check_every must be an int >= 1 (steps), got {self.check_every!r}")
@@ -95,6 +102,10 @@ class Released:
         over the bonded line nodes), ``kinetic``, ``work``.
     line_x : ndarray (m,)
         The line's nodes; ``open`` (m - 1,) bool: the final open segments.
+    tips : dict
+        ``t (k,)`` (0, then every check with a release) and ``x (k, n_cracks, 2)``: the
+        left and right ends of the open stretch holding each initial crack (the main
+        crack first; stretches that joined share their ends).
     stop : str
     state : State
     info, timings : dict
@@ -111,6 +122,7 @@ class Released:
     state: object = None
     info: dict = field(default_factory=dict)
     timings: dict = field(default_factory=dict)
+    tips: dict = field(default_factory=dict)
 
 
 class _Line:
@@ -130,6 +142,13 @@ class _Line:
             raise ValueError(f"a0 = {rule.a0!r} is shorter than half the first node interval "
                              f"({xs[1] - xs[0]:.6g}): the initial crack needs at least one segment")
         self.open[:k] = True
+        for x0, x1 in rule.cracks:
+            i, j = (int(np.argmin(np.abs(xs - v))) for v in (x0, x1))
+            if j <= i:
+                raise ValueError(f"crack ({x0!r}, {x1!r}) spans no segment of the line's nodes")
+            self.open[i:j] = True
+        # a point inside each initial crack, to follow its tips
+        self.seeds = [0.5 * (xs[0] + xs[k])] + [0.5 * (a + b) for a, b in rule.cracks]
         self.y0 = rule.y0
         self.shape = disc.shape_at(np.column_stack([xs, np.full(len(xs), rule.y0)]), derivatives=True)
         self.D = disc.scene.material.D
@@ -151,6 +170,19 @@ class _Line:
     def length(self) -> float:
         closed = np.flatnonzero(~self.open)
         return float(self.x[closed[0]] - self.x[0]) if len(closed) else float(self.x[-1] - self.x[0])
+
+    def tips(self) -> np.ndarray:
+        """The ends ``(x_left, x_right)`` of the open stretch holding each initial crack,
+        shape (n_cracks, 2)."""
+        j = np.clip(np.searchsorted(self.x, self.seeds, side="right") - 1, 0, len(self.open) - 1)
+        closed = np.flatnonzero(~self.open)
+        out = np.empty((len(j), 2))
+        for i, k in enumerate(j):  # a few cracks
+            left = closed[closed < k]
+            right = closed[closed > k]
+            out[i] = (self.x[left[-1] + 1] if len(left) else self.x[0],
+                      self.x[right[0]] if len(right) else self.x[-1])
+        return out
 
     def rows(self) -> csr_array:
         """The Lagrange rows ``int_bonded N_k u_y dx = 0`` of the bonded segments, one per
@@ -263,6 +295,7 @@ def run_release(scene, method, rule: LineRelease, stepping: Stepping | None = No
     every = max(1, round((stepping.output_interval or scene.duration / 100) / dt))
     step, state, stop = 0, None, None
     ta, la = [0.0], [line.length()]
+    tip_t, tip_x = [0.0], [line.tips()]
     rel = {"t": [], "x": [], "new_crack": []}
     hist = {"t": [], "length": [], "sigma1_max": [], "kinetic": [], "work": []}
     lim = line.x[-1] - line.x[0] if max_length is None else max_length
@@ -293,6 +326,8 @@ def run_release(scene, method, rule: LineRelease, stepping: Stepping | None = No
             rel["x"].append(x)
             rel["new_crack"].append(new)
         a = line.length()
+        tip_t.append(step * dt)
+        tip_x.append(line.tips())
         if a > la[-1]:
             ta.append(step * dt)
             la.append(a)
@@ -317,6 +352,7 @@ def run_release(scene, method, rule: LineRelease, stepping: Stepping | None = No
     timings["total"] = time.perf_counter() - t0
     info = {"dt": dt, "dt_critical_free": free[0], "steps": step, "n_nodes": dyn.disc.nodes.n,
             "line_nodes": len(line.x), "releases": len(rel["t"])}
+    tips = {"t": np.array(tip_t), "x": np.array(tip_x)}
     return Released(t, a, speed, {k: np.array(v) for k, v in rel.items()},
                     {k: np.array(v) for k, v in hist.items()}, line.x, line.open.copy(), stop,
-                    state, info, timings)
+                    state, info, timings, tips)
