@@ -35,6 +35,7 @@ from numba import njit
 
 from ..methods.efg import EFG
 from ..methods.mlpg import MLPG
+from ..problem.graded import refuse_grading
 from ..problem.history import Stepping
 from ..problem.scene import Scene
 from .dsif import dynamic_dsif
@@ -224,6 +225,8 @@ def integrate(scene: Scene, method: EFG | MLPG, stepping: Stepping | None = None
     stepping = Stepping() if stepping is None else stepping
     if not isinstance(stepping, Stepping):
         raise TypeError(f"stepping must be a Stepping, got {type(stepping).__name__}")
+    if dsif is not None and scene.tips:
+        refuse_grading(scene, "the dynamic SIFs (J', dsif)")
     t_all = time.perf_counter()
     dyn = dynamics(scene, method) if dyn is None else dyn
     t0 = time.perf_counter()

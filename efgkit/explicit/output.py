@@ -38,6 +38,7 @@ class VTUSeries:
         self.U = csr_array(vstack(list(sh.u_operators()), format="csr"))
         self.G = csr_array(vstack(list(sh.grad_operators()), format="csr"))
         self.material = scene.material
+        self.fE = np.ones(len(self.x)) if scene.grading is None else scene.grading.factors(self.x)[0]
         self.files: list[tuple[float, Path]] = []
 
     def write(self, t: float, u: np.ndarray, v: np.ndarray) -> Path:
@@ -47,7 +48,7 @@ class VTUSeries:
         disp = (self.U @ u).reshape(2, n).T
         vel = (self.U @ v).reshape(2, n).T
         g = (self.G @ u).reshape(2, 2, n).transpose(2, 0, 1)
-        s = strain_from_gradient(g) @ self.material.D.T
+        s = self.fE[:, None] * (strain_from_gradient(g) @ self.material.D.T)
         data = {"displacement": pad3(disp), "velocity": pad3(vel), "stress": s,
                 "von_mises": von_mises(s, self.material)}
         path = self.dir / f"{self.name}_{len(self.files):05d}.vtu"
@@ -91,6 +92,8 @@ class Recorder:
             sh = disc.shape_at(x, derivatives=True)
             self.P = csr_array(vstack(list(sh.u_operators()) + list(sh.grad_operators()),
                                       format="csr"))  # rows: ux, uy, gxx, gxy, gyx, gyy per probe
+            g = disc.scene.grading  # graded: D(x) = modulus(x) D
+            self.fE_probes = np.ones(len(x)) if g is None else g.factors(x)[0]
         self.series = None
         if stepping.vtu:
             if out is None:
@@ -140,7 +143,8 @@ class Recorder:
             g = pu[2:].reshape(2, 2, k).transpose(2, 0, 1)
             r["u"].append(pu[:2].T)
             r["v"].append(pv.T)
-            r["stress"].append(strain_from_gradient(g) @ dyn.disc.scene.material.D.T)
+            r["stress"].append(self.fE_probes[:, None] * (strain_from_gradient(g)
+                                                          @ dyn.disc.scene.material.D.T))
         if self.dsif is not None and dyn.disc.scene.tips:
             for key, val in self.dsif(dyn, u, v, a, t).items():
                 self.sifs.setdefault(key, []).append(np.asarray(val, float))

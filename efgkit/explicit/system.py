@@ -46,6 +46,7 @@ from ..methods.efg import EFG
 from ..methods.local import DEFAULT_MLPG_PENALTY, discretize_local, local_loads, local_system
 from ..methods.mlpg import MLPG
 from ..problem.exact.fields import Field
+from ..problem.graded import density_weights, modulus_weights, refuse_grading
 from ..problem.scene import Scene
 from ..static import DEFAULT_PENALTY, DEFAULT_STABILISATION
 from ..system.assemble import stiffness
@@ -233,11 +234,12 @@ def dynamics(scene: Scene, method: EFG | MLPG, disc: Discretization | None = Non
     t0 = time.perf_counter()
     mat = scene.material
     test = getattr(disc, "test", None)  # Petrov-Galerkin test functions (MLPG), else None
-    K = stiffness(disc.shape, disc.points.w, mat.D, test=test)
+    K = stiffness(disc.shape, modulus_weights(scene, disc.points.x, disc.points.w), mat.D, test=test)
     timings["stiffness"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    m = row_sum_mass(disc.shape, disc.points.w, mat.rho, area=scene.domain.area,
-                     node_x=disc.nodes.x, test=test)
+    wr = density_weights(scene, disc.points.x, disc.points.w)  # graded: int rho(x) = rho sum wr
+    m = row_sum_mass(disc.shape, wr, mat.rho, node_x=disc.nodes.x, test=test,
+                     area=scene.domain.area if scene.grading is None else float(wr.sum()))
     timings["mass"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     parts = _load_scenes(scene)
@@ -295,6 +297,7 @@ def local_dynamics(scene: Scene, method: MLPG, disc: Discretization | None = Non
     ValueError
         An enriched MLPG (its Galerkin enrichment rows have no sub-domain mass yet).
     """
+    refuse_grading(scene, "explicit MLPG")
     method = method.for_scene(scene)
     if method.enrichment != "none":
         raise ValueError(f"method.enrichment={method.enrichment!r}: explicit MLPG runs without "

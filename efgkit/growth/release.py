@@ -152,6 +152,9 @@ class _Line:
         self.y0 = rule.y0
         self.shape = disc.shape_at(np.column_stack([xs, np.full(len(xs), rule.y0)]), derivatives=True)
         self.D = disc.scene.material.D
+        g = disc.scene.grading  # graded: D(x) = modulus(x) D
+        on_line = np.column_stack([xs, np.full(len(xs), rule.y0)])
+        self.fE = np.ones(len(xs)) if g is None else g.factors(on_line)[0]
         # per segment j: rows 2j, 2j + 1 = int_seg (1 - s) u_y, int_seg s u_y (3-point Gauss)
         g, gw = np.polynomial.legendre.leggauss(3)
         g, gw = 0.5 * (g + 1), 0.5 * gw
@@ -201,7 +204,8 @@ class _Line:
         return csr_array(G[used])
 
     def sigma1(self, u) -> np.ndarray:
-        return principal_stress(strain_from_gradient(self.shape.gradient(u)) @ self.D.T)
+        s = strain_from_gradient(self.shape.gradient(u)) @ self.D.T
+        return principal_stress(self.fE[:, None] * s)
 
     def release(self, s1: np.ndarray, sigma_c: float) -> list[tuple[float, bool]]:
         """Open the segments of the nodes where ``s1 >= sigma_c``: ``[(x, new_crack)]``."""

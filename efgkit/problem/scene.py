@@ -17,6 +17,7 @@ import numpy as np
 from .crack import Crack
 from .exact.fields import Field
 from .geometry import COORDINATE_LIMIT, Domain
+from .graded import Grading
 from .material import Elastic
 from .supports import PointSupport, Pressure
 from .symmetry import Symmetry, full_domain
@@ -129,6 +130,7 @@ class Scene:
     initial_velocity: tuple[float, float] | Callable | Field | None = None
     point_supports: tuple[PointSupport, ...] = ()
     symmetry: Symmetry | None = None  # half and quarter models (efgkit.problem.symmetry)
+    grading: Grading | None = None  # position-dependent E and rho (efgkit.problem.graded)
 
     def __post_init__(self):
         if not isinstance(self.domain, Domain):
@@ -138,6 +140,8 @@ class Scene:
         for attr in ("supports", "tractions", "cracks", "point_supports"):
             object.__setattr__(self, attr, tuple(getattr(self, attr)))
         _check_points(self.point_supports, self.domain)
+        if self.grading is not None and not isinstance(self.grading, Grading):
+            raise TypeError(f"grading must be a Grading, got {type(self.grading).__name__}")
         if self.symmetry is not None:
             if not isinstance(self.symmetry, Symmetry):
                 raise TypeError(f"symmetry must be a Symmetry, got {type(self.symmetry).__name__}")
