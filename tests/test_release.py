@@ -76,10 +76,20 @@ def test_side_crack_tips_are_followed():
     assert np.allclose(x[-1, 0], x[-1, 1])
 
 
+def test_position_dependent_strength_stops_the_crack():
+    # sigma_c far above any stress from x = 0.6 on: the crack runs to 0.5 and stops there
+    sc, m = plate()
+    r = run_release(sc, m, LineRelease(lambda x: np.where(x[:, 0] < 0.55, 2500.0, 1e9), 0.3))
+    assert r.length[-1] == pytest.approx(0.5) and r.releases["x"].tolist() == [0.4, 0.5]
+    assert r.history["ratio_max"][-1] < 1e-3 and np.nanmax(r.history["ratio_max"]) >= 1.0
+
+
 @pytest.mark.parametrize("make, err, match", [
     (lambda: LineRelease(-1.0, 0.3), ValueError, "sigma_c must be a finite number > 0"),
     (lambda: LineRelease(1.0, 0.3, check_every=0), ValueError, "check_every must be an int >= 1"),
     (lambda: LineRelease(1.0, 0.3, cracks=((1.0, 0.5),)), ValueError, "cracks must be pairs"),
+    (lambda: run_release(*plate(), LineRelease(lambda x: 1.0 - x[:, 0], 0.3)), ValueError,
+     "sigma_c is 0.0 at the line's node x = 1.0: the critical stress must be finite"),
     (lambda: run_release(*plate(), LineRelease(1.0, 0.3, cracks=((1.0, 1.02),))), ValueError,
      r"crack \(1.0, 1.02\) spans no segment"),
     (lambda: run_release(*plate(), rule=None), TypeError, "rule must be a LineRelease"),

@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -55,13 +56,14 @@ __all__ = ["LineRelease", "Released", "release_segments", "run_release"]
 @dataclass(frozen=True)
 class LineRelease:
     """Release of the symmetry line ``y = y0`` (its nodes' ``u_y = 0`` support) where the
-    maximum principal stress reaches ``sigma_c`` (stress units of the scene), checked
+    maximum principal stress reaches ``sigma_c`` (stress units of the scene; a callable
+    ``x (m, 2) -> (m,)``: a value per node of the line, e.g. a graded strength), checked
     every ``check_every`` steps; ``a0``: the initial crack, open from the line's first
     node (smallest x, the centre of the body) over ``a0`` (rounded to the nearest node);
     ``cracks``: further initial cracks on the line, ``((x_start, x_end), ...)`` (ends
     rounded to the nearest nodes); nodes within ``tol`` of ``y0`` are on the line."""
 
-    sigma_c: float
+    sigma_c: float | Callable
     a0: float
     y0: float = 0.0
     check_every: int = 1
@@ -69,7 +71,7 @@ class LineRelease:
     cracks: tuple = ()
 
     def __post_init__(self):
-        for name in ("sigma_c", "a0"):
+        for name in ("a0",) if callable(self.sigma_c) else ("sigma_c", "a0"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
                 raise ValueError(f"{name} must be a finite number > 0, got {v!r}")
@@ -99,7 +101,8 @@ class Released:
         Every release: ``t``, ``x`` (node), ``new_crack`` (bool: away from a tip).
     history : dict
         At the output instants: ``t``, ``length``, ``sigma1_max`` (the largest sigma_1
-        over the bonded line nodes), ``kinetic``, ``work``.
+        over the bonded line nodes), ``ratio_max`` (the largest sigma_1 / sigma_c there),
+        ``kinetic``, ``work``.
     line_x : ndarray (m,)
         The line's nodes; ``open`` (m - 1,) bool: the final open segments.
     tips : dict
@@ -155,6 +158,13 @@ class _Line:
         g = disc.scene.grading  # graded: D(x) = modulus(x) D
         on_line = np.column_stack([xs, np.full(len(xs), rule.y0)])
         self.fE = np.ones(len(xs)) if g is None else g.factors(on_line)[0]
+        sc = rule.sigma_c
+        self.sigma_c = np.broadcast_to(np.asarray(sc(on_line) if callable(sc) else sc, float), (len(xs),))
+        if not np.all(np.isfinite(self.sigma_c) & (self.sigma_c > 0)):
+            k = int(np.flatnonzero(~(np.isfinite(self.sigma_c) & (self.sigma_c > 0)))[0])
+            raise ValueError(f"sigma_c is {float(self.sigma_c[k])!r} at the line's node "
+                             f"x = {float(xs[k])!r}: the critical stress must be finite and > 0 "
+                             "at every node")
         # per segment j: rows 2j, 2j + 1 = int_seg (1 - s) u_y, int_seg s u_y (3-point Gauss)
         g, gw = np.polynomial.legendre.leggauss(3)
         g, gw = 0.5 * (g + 1), 0.5 * gw
@@ -207,12 +217,12 @@ class _Line:
         s = strain_from_gradient(self.shape.gradient(u)) @ self.D.T
         return principal_stress(self.fE[:, None] * s)
 
-    def release(self, s1: np.ndarray, sigma_c: float) -> list[tuple[float, bool]]:
+    def release(self, s1: np.ndarray, sigma_c) -> list[tuple[float, bool]]:
         """Open the segments of the nodes where ``s1 >= sigma_c``: ``[(x, new_crack)]``."""
         return [(float(self.x[k]), new) for k, new in release_segments(self.open, s1, sigma_c)]
 
 
-def release_segments(open_: np.ndarray, sigma1: np.ndarray, sigma_c: float) -> list[tuple[int, bool]]:
+def release_segments(open_: np.ndarray, sigma1: np.ndarray, sigma_c) -> list[tuple[int, bool]]:
     """Nodal release on a line (seed 000 Fig. 15), in place on ``open_``.
 
     Parameters
@@ -221,7 +231,7 @@ def release_segments(open_: np.ndarray, sigma1: np.ndarray, sigma_c: float) -> l
         Segment ``j`` joins nodes ``j`` and ``j + 1``; True: open (crack face). Modified.
     sigma1 : ndarray (m,)
         Maximum principal stress at the nodes.
-    sigma_c : float
+    sigma_c : float or ndarray (m,)
 
     Returns
     -------
@@ -243,7 +253,7 @@ def release_segments(open_: np.ndarray, sigma1: np.ndarray, sigma_c: float) -> l
     [1, 1, 0, 0, 1, 1]
     """
     out, m = [], len(open_) + 1
-    for k in np.flatnonzero(np.asarray(sigma1) >= sigma_c):
+    for k in np.flatnonzero(np.asarray(sigma1) >= sigma_c):  # sigma_c: a number or (m,)
         if k == 0 or k == m - 1 or open_[k - 1] or open_[k]:
             continue  # an end of the line, a tip or a face node: not bonded
         tip_left = k >= 2 and bool(open_[k - 2])
@@ -258,9 +268,10 @@ def release_segments(open_: np.ndarray, sigma1: np.ndarray, sigma_c: float) -> l
     # a one-segment ligament between two tips (left by a new crack two nodes from a tip)
     # has no bonded node: it opens when either of its tips reaches sigma_c
     for j in np.flatnonzero(~open_[1:-1]) + 1:
-        if open_[j - 1] and open_[j + 1] and max(sigma1[j], sigma1[j + 1]) >= sigma_c:
+        over = np.asarray(sigma1)[j:j + 2] >= np.broadcast_to(sigma_c, (m,))[j:j + 2]
+        if open_[j - 1] and open_[j + 1] and over.any():
             open_[j] = True
-            out.append((int(j if sigma1[j] >= sigma_c else j + 1), False))
+            out.append((int(j if over[0] else j + 1), False))
     return out
 
 
@@ -301,7 +312,7 @@ def run_release(scene, method, rule: LineRelease, stepping: Stepping | None = No
     ta, la = [0.0], [line.length()]
     tip_t, tip_x = [0.0], [line.tips()]
     rel = {"t": [], "x": [], "new_crack": []}
-    hist = {"t": [], "length": [], "sigma1_max": [], "kinetic": [], "work": []}
+    hist = {"t": [], "length": [], "sigma1_max": [], "ratio_max": [], "kinetic": [], "work": []}
     lim = line.x[-1] - line.x[0] if max_length is None else max_length
     st = replace(stepping, dt=dt, output_interval=None)
     while step < n_total:
@@ -318,9 +329,10 @@ def run_release(scene, method, rule: LineRelease, stepping: Stepping | None = No
             hist["t"].append(step * dt)
             hist["length"].append(line.length())
             hist["sigma1_max"].append(float(s1[bonded].max()) if bonded.any() else math.nan)
+            hist["ratio_max"].append(float((s1 / line.sigma_c)[bonded].max()) if bonded.any() else math.nan)
             hist["kinetic"].append(float(sol.history["kinetic"][-1]))
             hist["work"].append(float(sol.history["work"][-1]))
-        events = line.release(s1, rule.sigma_c)
+        events = line.release(s1, line.sigma_c)
         timings["check"] += time.perf_counter() - t1
         if not events:
             continue
