@@ -32,6 +32,14 @@ faces are the free part of y = 0 and grow by releasing the line's nodes
 the plate centre (the quarter model's crack). The seed's face gap (2e-3 mm) has no
 counterpart on a symmetry line (module docstring of release.py).
 
+Three cracks (seed 000 Sect. 5.2.2, full mode, not checked): three 0.8 mm cracks on the
+crack line, the central one (a0 = 0.4 mm) and side cracks centred at +-2 mm (``XC``: the
+seed's Fig. 19 is missing); the start of each tip (tip 1 the central crack's, 2 and 3 the
+side crack's inner and outer tips) beside the seed's (at 200/s tip 3 starts 0.4 us after
+tip 1, tip 2 a little later; at 1000/s all together). Measured: at 200/s tips 1, 2, 3 start
+at 13.74, 13.82 and 13.85 us (tip 3 0.11 us after tip 1, tip 2 before tip 3) and the
+cracks join at 14.2 us; at 1000/s all three start at 2.06 us.
+
 Grids: ``nodes(f)`` scales the seed's spacings 0.025 / 0.05 / 0.1 / 0.2 mm by ``f``. Full
 mode runs the seed's grid (``f = 1``, 10,324 nodes, about a minute per rate on the shared
 machine) for both rates, and as sensitivity (not checked) the other crack length, the grid
