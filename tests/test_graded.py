@@ -11,6 +11,7 @@ from efgkit.explicit import dynamics, integrate
 from efgkit.problem.expression import Expression
 from efgkit.problem.graded import Grading
 from efgkit.scenefile import scene_from_dict
+from efgkit.scenefile.writer import scene_to_dict
 
 L, H, E0 = 4.0, 0.5, 1000.0
 
@@ -66,8 +67,10 @@ def test_first_mode_of_a_graded_bar():
 def test_scene_file_grading():
     d = {"material": {"E": 1.0, "nu": 0.3}, "domain": {"outer": {"rectangle": [0, 0, 1, 1]}},
          "grading": {"modulus": "exp(1.76 * x)", "density": 2.0}}
-    g = scene_from_dict(d).grading
+    sc = scene_from_dict(d)
+    g = sc.grading
     assert g.modulus == "exp(1.76 * x)" and g.density == 2.0
+    assert scene_to_dict(sc)["grading"] == {"modulus": "exp(1.76 * x)", "density": 2.0}
     assert np.allclose(g.factors([[1.0, 0.0]]), [[np.exp(1.76)], [2.0]])
 
 
