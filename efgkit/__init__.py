@@ -11,7 +11,8 @@ from .methods import EFG, Rosette, Zone
 from .methods.discretize import discretize
 from .methods.mlpg import MLPG
 from .problem import Crack, Domain, Elastic, Field, Loop, PointSupport, Pressure, Scene, Support, Traction
-from .problem.history import Heaviside, ImpactPulse, Ramp, Stepping, Tabulated
+from .problem.graded import Grading
+from .problem.history import Heaviside, ImpactPulse, Linear, Ramp, Stepping, Tabulated
 from .scenefile import load_scene, load_study
 from .solution import Solution
 from .static import solve
@@ -23,7 +24,8 @@ except PackageNotFoundError:  # pragma: no cover - running from a source tree
 
 __all__ = [
     "Crack", "Domain", "DynamicSolution", "EFG", "Elastic", "FEM", "FEMSolution", "Field", "Growth",
-    "GrowthStep", "Heaviside", "ImpactPulse", "Loop", "MLPG", "MeshlessSolution", "PointSupport",
+    "Grading", "GrowthStep", "Heaviside", "ImpactPulse", "Linear", "Loop", "MLPG", "MeshlessSolution",
+    "PointSupport",
     "Pressure", "Ramp", "Rosette", "Scene", "Solution", "Stepping", "Support", "Tabulated", "TipResult",
     "Traction", "Zone", "__version__", "discretize", "grow", "integrate", "load_scene", "load_study",
     "solve", "solve_fem",

@@ -27,6 +27,7 @@ from .meshless_solution import MeshlessSolution
 from .methods.boundary import loads
 from .methods.discretize import discretize
 from .methods.efg import EFG
+from .problem.graded import modulus_weights
 from .problem.scene import Scene
 from .static import constrained_system
 from .system.assemble import stiffness
@@ -103,7 +104,7 @@ def solve_cases(cases: Mapping[str, Scene], method: EFG) -> dict[str, MeshlessSo
     t0 = time.perf_counter()
     method = method.for_scene(base)
     disc = discretize(base, method)
-    K = stiffness(disc.shape, disc.points.w, base.material.D)
+    K = stiffness(disc.shape, modulus_weights(base, disc.points.x, disc.points.w), base.material.D)
     f0 = loads(disc)
     system = _constrained(disc, K, f0, method)
     lu = splu(system.A.tocsc())

@@ -8,6 +8,7 @@ import numpy as np
 
 from .methods.discretize import Discretization, crack_mouths
 from .problem.crack import FACE_OFFSET
+from .problem.graded import modulus_weights, refuse_grading
 from .problem.material import strain_from_gradient, voigt_tensor
 from .solution import Solution, resultant
 
@@ -96,7 +97,8 @@ class MeshlessSolution(Solution):
         """``(x (n, 2), w (n,), stress (n, 3), grad_u (n, 2, 2))`` at the domain quadrature points."""
         grad = self.gradient()
         pts = self.disc.post_points  # MLPG: the background cells (its discs overlap)
-        return (pts.x, pts.w, strain_from_gradient(grad) @ self.scene.material.D.T, grad)
+        fE = modulus_weights(self.scene, pts.x, np.ones(len(pts.x)))  # graded: modulus(x)
+        return (pts.x, pts.w, fE[:, None] * (strain_from_gradient(grad) @ self.scene.material.D.T), grad)
 
     def tip_spacing(self, tip) -> float:
         """The nodal spacing at a tip: c_I = d_mI / d_max of the node nearest to it."""
@@ -112,6 +114,7 @@ class MeshlessSolution(Solution):
         the spacing at the tip."""
         from .fracture.sif import face_loads, tip_radii, tip_result
 
+        refuse_grading(self.scene, "the J and interaction integrals (SIFs)")
         x, w = self.disc.post_points.x, self.disc.post_points.w
         grad = self.gradient()
         stress = strain_from_gradient(grad) @ self.scene.material.D.T  # no second pass
@@ -152,7 +155,8 @@ class MeshlessSolution(Solution):
     def strain_energy(self) -> float:
         """U = 1/2 int eps : sigma dOmega over the domain quadrature."""
         eps = self.strain()
-        return 0.5 * float(np.sum(self.disc.post_points.w * np.einsum("ni,ij,nj->n", eps,
+        w = modulus_weights(self.scene, self.disc.post_points.x, self.disc.post_points.w)
+        return 0.5 * float(np.sum(w * np.einsum("ni,ij,nj->n", eps,
                                                                   self.scene.material.D, eps)))
 
     def errors(self, exact=None) -> dict:

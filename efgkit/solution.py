@@ -112,8 +112,14 @@ class Solution(ABC):
         return strain_from_gradient(self.gradient(x))
 
     def stress(self, x=None) -> np.ndarray:
-        """Stress (xx, yy, xy) at points ``x (n, 2)``, shape (n, 3): ``D eps``."""
-        return self.strain(x) @ self.scene.material.D.T
+        """Stress (xx, yy, xy) at points ``x (n, 2)``, shape (n, 3): ``D eps`` (graded
+        scenes: ``modulus(x) D eps``, :mod:`efgkit.problem.graded`)."""
+        s = self.strain(x) @ self.scene.material.D.T
+        g = getattr(self.scene, "grading", None)
+        if g is not None:
+            pts = self.disc.post_points.x if x is None else np.asarray(x, float).reshape(-1, 2)
+            s = g.factors(pts)[0][:, None] * s
+        return s
 
     @abstractmethod
     def strain_energy(self) -> float:

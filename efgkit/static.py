@@ -25,6 +25,7 @@ from .methods.boundary import (
 from .methods.discretize import Discretization, discretize
 from .methods.efg import EFG
 from .methods.mlpg import MLPG
+from .problem.graded import modulus_weights, refuse_grading
 from .problem.scene import Scene
 from .problem.symmetry import without_mirror_conditions
 from .system.assemble import stiffness
@@ -144,6 +145,7 @@ def solve(scene: Scene, method: EFG | MLPG, disc: Discretization | None = None, 
     0.002
     """
     if isinstance(method, MLPG):
+        refuse_grading(scene, "MLPG")
         return solve_mlpg(scene, method, disc)
     t_all = time.perf_counter()
     sw = Stopwatch()  # laps: stages that add up to the wall time, compilation apart
@@ -160,7 +162,8 @@ def solve(scene: Scene, method: EFG | MLPG, disc: Discretization | None = None, 
         disc = discretize(scene, method)
         sw = Stopwatch(disc.timings | {k: v + disc.timings.get(k, 0.0) for k, v in sw.timings.items()})
     mat, m = scene.material, method
-    K = stiffness(disc.shape, disc.points.w, mat.D) if K is None else K
+    K = stiffness(disc.shape, modulus_weights(disc.scene, disc.points.x, disc.points.w), mat.D) \
+        if K is None else K
     sw.lap("stiffness")
     f = loads(disc) if f is None else f
     sw.lap("loads")

@@ -35,6 +35,7 @@ from numba import njit
 
 from ..methods.efg import EFG
 from ..methods.mlpg import MLPG
+from ..problem.graded import refuse_grading
 from ..problem.history import Stepping
 from ..problem.scene import Scene
 from .dsif import dynamic_dsif
@@ -126,16 +127,18 @@ def _energies(u, v, Ku, f, m):
 def initial_state(dyn: Dynamics, dt: float) -> State:
     """State before step 0 from the scene's initial fields (zero when not given):
     ``v^{-1/2} = v^0 - dt/2 a^0``; with Lagrange constraints ``u^0`` and ``v^0`` are first
-    projected onto the admissible motions, with modified MLS the fixed coefficients set."""
+    projected onto the admissible motions (``G u^0 = q(0)``, ``G v^0 = 0``: a moving
+    support starts from rest), with modified MLS the fixed coefficients set."""
     scene = dyn.disc.scene
     n = dyn.n_dofs
     u, v = (np.zeros(n) if g is None else fit_coefficients(dyn.disc, g)
             for g in (scene.initial_displacement, scene.initial_velocity))
     if dyn.projection is not None:
         P = dyn.projection
-        u = u - P.correction(u)
+        u = u - P.correction(u, dyn.prescribed(0.0))
         v = v - P.minv_GT @ P.lu.solve(P.G @ v)
-    u[dyn.fixed] = dyn.fixed_values
+    else:
+        u[dyn.fixed] = dyn.prescribed(0.0)
     v[dyn.fixed] = 0.0
     a = dyn.minv * (dyn.force(0.0) - dyn.K @ u)
     return State(0, dt, u, v - 0.5 * dt * a)
@@ -222,6 +225,8 @@ def integrate(scene: Scene, method: EFG | MLPG, stepping: Stepping | None = None
     stepping = Stepping() if stepping is None else stepping
     if not isinstance(stepping, Stepping):
         raise TypeError(f"stepping must be a Stepping, got {type(stepping).__name__}")
+    if dsif is not None and scene.tips:
+        refuse_grading(scene, "the dynamic SIFs (J', dsif)")
     t_all = time.perf_counter()
     dyn = dynamics(scene, method) if dyn is None else dyn
     t0 = time.perf_counter()
@@ -250,6 +255,9 @@ def integrate(scene: Scene, method: EFG | MLPG, stepping: Stepping | None = None
     if P is not None:  # only the rows M^-1 G^T touches change
         rows = np.flatnonzero(np.diff(P.minv_GT.indptr))
         minv_rows = P.minv_GT[rows]
+    moving = dyn.moving_supports  # constraint values q(t) (efgkit.explicit.moving)
+    if moving and P is None:  # moving fixed coefficients (modified MLS)
+        rows = dyn.fixed
     f_const = None if dyn.time_dependent else dyn.force(0.0)
     rec = Recorder(dyn, stepping, dt, dsif, out, n_out=-(-n_total // every) + 1)
     show = _progress(sys.stderr.isatty() if progress is None else progress, n_total)
@@ -260,13 +268,23 @@ def integrate(scene: Scene, method: EFG | MLPG, stepping: Stepping | None = None
         f = f_const if f_const is not None else dyn.force(t)
         if (n - n0) % every == 0:
             rec.record(n, t, u, v, Ku, f, work, drift)
+        if moving:
+            v_rows = v[rows]
         w_old = _advance(u, v, Ku, f, minv, dt)
         if P is not None:
-            du = minv_rows @ P.lu.solve(P.G @ u - P.q)
+            du = minv_rows @ P.lu.solve(P.G @ u - (dyn.prescribed((n + 1) * dt) if moving else P.q))
             u[rows] -= du
             v[rows] -= du / dt
+        elif moving:  # prescribed kinematics of the fixed coefficients
+            q1 = dyn.prescribed((n + 1) * dt)
+            v[rows] = v_rows + (q1 - u[rows]) / dt  # u[rows] moved by dt v_rows already
+            u[rows] = q1
         kin, uk, w_new = _energies(u, v, Ku, f, m)
         work += 0.5 * dt * (w_old + w_new)
+        if moving:  # work of the support reactions r^n = M (v^{n+1/2} - v~^{n+1/2}) / dt
+            r = m[rows] * (v[rows] - v_rows) / dt - (f[rows] - Ku[rows]) if P is None \
+                else -m[rows] * du / dt ** 2
+            work += 0.5 * dt * float(r @ (v_rows + v[rows]))
         modified = kin + uk
         bal = modified - work
         if bal0 is None:

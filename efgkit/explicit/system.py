@@ -46,11 +46,13 @@ from ..methods.efg import EFG
 from ..methods.local import DEFAULT_MLPG_PENALTY, discretize_local, local_loads, local_system
 from ..methods.mlpg import MLPG
 from ..problem.exact.fields import Field
+from ..problem.graded import density_weights, modulus_weights, refuse_grading
 from ..problem.scene import Scene
 from ..static import DEFAULT_PENALTY, DEFAULT_STABILISATION
 from ..system.assemble import stiffness
 from ..system.constraints import lagrange, modified_variational, penalty
 from ..system.mass import row_sum_mass
+from .moving import split_values, still_scene
 
 __all__ = ["Dynamics", "Projection", "dynamics", "fit_coefficients", "local_dynamics"]
 
@@ -85,9 +87,10 @@ class Projection:
                              "component once on an edge or use bc='penalty'") from err
         return cls(G, np.asarray(q, float), minv_GT, lu)
 
-    def correction(self, u: np.ndarray) -> np.ndarray:
-        """``M^-1 G^T (G M^-1 G^T)^-1 (G u - q)``, shape (n_dofs,): subtract it from u."""
-        return self.minv_GT @ self.lu.solve(self.G @ u - self.q)
+    def correction(self, u: np.ndarray, q: np.ndarray | None = None) -> np.ndarray:
+        """``M^-1 G^T (G M^-1 G^T)^-1 (G u - q)``, shape (n_dofs,): subtract it from u
+        (``q`` default: the constant ``self.q``; moving supports pass ``Dynamics.prescribed(t)``)."""
+        return self.minv_GT @ self.lu.solve(self.G @ u - (self.q if q is None else q))
 
 
 @dataclass(frozen=True, eq=False)
@@ -110,6 +113,10 @@ class Dynamics:
         Fixed coefficients (bc="modified_mls").
     bc : str
     timings : dict
+    Q : ndarray (r, k) or None; q_histories : tuple (k,)
+        Moving supports (:mod:`efgkit.explicit.moving`): the constraint values are
+        ``prescribed(t) = q_0 + Q g(t)`` (``q_0``: ``projection.q`` or ``fixed_values``).
+        With penalty or Nitsche constraints their forcing is in ``F`` instead (Q None).
     """
 
     disc: Discretization
@@ -124,10 +131,25 @@ class Dynamics:
     fixed_values: np.ndarray
     bc: str
     timings: dict = field(default_factory=dict)
+    Q: np.ndarray | None = None
+    q_histories: tuple = ()
 
     @property
     def n_dofs(self) -> int:
         return len(self.m)
+
+    @property
+    def moving_supports(self) -> bool:
+        """Whether constraint values change in time (a support with a history)."""
+        return self.Q is not None
+
+    def prescribed(self, t: float) -> np.ndarray:
+        """The constraint values at ``t``: ``q_0 + Q g(t)``, shape (r,) (the Lagrange or
+        collocation rows' ``q``, or the modified-MLS fixed values)."""
+        base = self.projection.q if self.projection is not None else self.fixed_values
+        if self.Q is None:
+            return base
+        return base + self.Q @ np.array([float(g(t)) for g in self.q_histories])
 
     @property
     def time_dependent(self) -> bool:
@@ -216,11 +238,12 @@ def dynamics(scene: Scene, method: EFG | MLPG, disc: Discretization | None = Non
     t0 = time.perf_counter()
     mat = scene.material
     test = getattr(disc, "test", None)  # Petrov-Galerkin test functions (MLPG), else None
-    K = stiffness(disc.shape, disc.points.w, mat.D, test=test)
+    K = stiffness(disc.shape, modulus_weights(scene, disc.points.x, disc.points.w), mat.D, test=test)
     timings["stiffness"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    m = row_sum_mass(disc.shape, disc.points.w, mat.rho, area=scene.domain.area,
-                     node_x=disc.nodes.x, test=test)
+    wr = density_weights(scene, disc.points.x, disc.points.w)  # graded: int rho(x) = rho sum wr
+    m = row_sum_mass(disc.shape, wr, mat.rho, node_x=disc.nodes.x, test=test,
+                     area=scene.domain.area if scene.grading is None else float(wr.sum()))
     timings["mass"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     parts = _load_scenes(scene)
@@ -233,28 +256,41 @@ def dynamics(scene: Scene, method: EFG | MLPG, disc: Discretization | None = Non
     zero = np.zeros(disc.n_dofs)
     f_bc, projection = zero, None
     fixed, fixed_values = np.zeros(0, int), np.zeros(0)
+    Q = None
     if scene.supports:
         h = method.spacing
+        still = replace(disc, scene=still_scene(scene))  # moving supports at 0: q_0
+        var = method.bc == "variational"
         if method.bc == "modified_mls":
-            fixed, fixed_values = eliminated_dofs(disc)
+            fixed, fixed_values = eliminated_dofs(still)
             minv[fixed] = 0.0
+            Q, qh = split_values(scene, lambda s: eliminated_dofs(replace(disc, scene=s))[1])
         else:
-            bc = essential_conditions(disc, derivatives=method.bc == "variational")
-            if method.bc == "penalty":
-                lin = penalty(K, zero, bc, (method.penalty or DEFAULT_PENALTY) * mat.E / h,
-                              disc.nodes.x, check=False)
-                K, f_bc = lin.A, lin.b
-            elif method.bc == "variational":
-                beta = (method.penalty or DEFAULT_STABILISATION) * mat.E / h
-                lin = modified_variational(K, zero, bc, mat.D, beta, disc.nodes.x, check=False)
-                K, f_bc = lin.A, lin.b
-            else:
-                lin = lagrange(K, zero, bc, disc.nodes.x, check=False)
-                n = disc.n_dofs
+            K0 = K
+
+            def constrained(d):
+                bc = essential_conditions(d, derivatives=var)
+                if method.bc == "penalty":
+                    return penalty(K0, zero, bc, (method.penalty or DEFAULT_PENALTY) * mat.E / h,
+                                   disc.nodes.x, check=False)
+                if var:
+                    beta = (method.penalty or DEFAULT_STABILISATION) * mat.E / h
+                    return modified_variational(K0, zero, bc, mat.D, beta, disc.nodes.x, check=False)
+                return lagrange(K0, zero, bc, disc.nodes.x, check=False)
+
+            lin = constrained(still)
+            n = disc.n_dofs
+            Q, qh = split_values(scene, lambda s: constrained(replace(disc, scene=s)).b[n:]
+                                 if method.bc == "lagrange" else constrained(replace(disc, scene=s)).b)
+            if method.bc == "lagrange":
                 projection = Projection.build(csr_array(lin.A[n:, :n]), lin.b[n:], minv)
+            else:  # the forcing of moving supports: load columns with their histories
+                K, f_bc = lin.A, lin.b
+                if Q is not None:
+                    F, histories, Q = np.column_stack([F, Q]), histories + qh, None
     timings["constraints"] = time.perf_counter() - t0
     return Dynamics(disc, _int32(csr_array(K)), m, minv, F, histories, f_bc, projection, fixed,
-                    fixed_values, method.bc, timings)
+                    fixed_values, method.bc, timings, Q, qh if Q is not None else ())
 
 
 def local_dynamics(scene: Scene, method: MLPG, disc: Discretization | None = None) -> Dynamics:
@@ -265,6 +301,7 @@ def local_dynamics(scene: Scene, method: MLPG, disc: Discretization | None = Non
     ValueError
         An enriched MLPG (its Galerkin enrichment rows have no sub-domain mass yet).
     """
+    refuse_grading(scene, "explicit MLPG")
     method = method.for_scene(scene)
     if method.enrichment != "none":
         raise ValueError(f"method.enrichment={method.enrichment!r}: explicit MLPG runs without "
@@ -288,22 +325,32 @@ def local_dynamics(scene: Scene, method: MLPG, disc: Discretization | None = Non
         else np.zeros((disc.n_dofs, 0))
     histories = tuple(g for _, g in parts)
     f_bc = np.zeros(disc.n_dofs)
-    if alpha is not None:  # the prescribed values of the penalty term: constant forcing
+    Q, qh = None, ()
+    if alpha is not None:  # the prescribed values of the penalty term: forcing
         quiet = [replace(c, pressure=0.0) for c in scene.cracks]
-        f_bc = local_loads(disc, alpha, replace(scene, tractions=(), body_force=None, cracks=quiet))
+
+        def pen(s):
+            return local_loads(disc, alpha, replace(s, tractions=(), body_force=None, cracks=quiet))
+        f_bc = pen(still_scene(scene))
+        Q, qh = split_values(scene, pen)
+        if Q is not None:  # moving supports: load columns with their histories
+            F, histories, Q, qh = np.column_stack([F, Q]), histories + qh, None, ()
     timings["loads"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     minv = 1.0 / m
     projection, fixed, fixed_values = None, np.zeros(0, int), np.zeros(0)
+    still = replace(disc, scene=still_scene(scene))
     if scene.supports and method.bc == "modified_mls":
-        fixed, fixed_values = eliminated_dofs(disc)
+        fixed, fixed_values = eliminated_dofs(still)
         minv[fixed] = 0.0
+        Q, qh = split_values(scene, lambda s: eliminated_dofs(replace(disc, scene=s))[1])
     elif scene.supports and method.bc == "collocation":
-        rows, vals, _ = collocation_rows(disc)
+        rows, vals, _ = collocation_rows(still)
         projection = Projection.build(csr_array(rows), vals, minv)
+        Q, qh = split_values(scene, lambda s: collocation_rows(replace(disc, scene=s))[1])
     timings["constraints"] = time.perf_counter() - t0
     return Dynamics(disc, _int32(csr_array(K)), m, minv, F, histories, f_bc, projection, fixed,
-                    fixed_values, method.bc, timings)
+                    fixed_values, method.bc, timings, Q, qh)
 
 
 def _int32(K: csr_array) -> csr_array:

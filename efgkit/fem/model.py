@@ -298,6 +298,8 @@ def solve_fem(scene: Scene, fem: FEM, mesh: TriMesh | None = None) -> FEMSolutio
     ------
     RigidBodyModeError
         The supports leave a rigid-body motion free.
+    ValueError
+        A graded scene (position-dependent material: not in the FE reference).
     efgkit.system.linalg.SolverError
         The linear solve fails its residual check (relative residual > 1e-8).
 
@@ -316,8 +318,10 @@ def solve_fem(scene: Scene, fem: FEM, mesh: TriMesh | None = None) -> FEMSolutio
     from skfem import Basis, ElementTriP1, ElementTriP2, ElementVector, asm
     from skfem.models.elasticity import linear_elasticity
 
+    from ..problem.graded import refuse_grading
     from ..system.linalg import solve
 
+    refuse_grading(scene, "the FE reference (solve_fem)")
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a Scene, got {type(scene).__name__}")
     if not isinstance(fem, FEM):

@@ -305,12 +305,15 @@ def run_growing(scene, method, rule, stepping: Stepping | None = None, *, radii=
         t1 = time.perf_counter()
         carry = transfer_state if transfer == "refit" else copy_state
         u, v = carry(dyn.disc, new.disc, state.u, state.v)
-        if new.projection is not None:  # the supports of the new system, as initial_state
+        # the supports of the new system at t_n (u) and t_{n-1/2} (the staggered v)
+        q1, q0 = new.prescribed(step * dt), new.prescribed(max(step - 1, 0) * dt)
+        if new.projection is not None:
             P = new.projection
-            u = u - P.correction(u)
-            v = v - P.minv_GT @ P.lu.solve(P.G @ v)
-        u[new.fixed] = new.fixed_values
-        v[new.fixed] = 0.0
+            u = u - P.correction(u, q1)
+            v = v - P.minv_GT @ P.lu.solve(P.G @ v - (q1 - q0) / dt)
+        else:
+            u[new.fixed] = q1
+            v[new.fixed] = (q1 - q0) / dt
         timings["transfer"] += time.perf_counter() - t1
         state = State(state.step, dt, u, v, state.work, None, 0.0, 0.0)
         dyn, moved = new, True

@@ -12,9 +12,11 @@ from .crack import Crack, Tip
 from .exact.fields import Field
 from .expression import Expression, VectorExpression
 from .geometry import Domain, Edge, Loop
+from .graded import Grading
 from .material import Elastic
 from .scene import PointSupport, Pressure, Scene, Support, Traction
 from .symmetry import Symmetry
 
-__all__ = ["Crack", "Domain", "Edge", "Elastic", "Expression", "Field", "Loop", "PointSupport", "Pressure",
+__all__ = ["Crack", "Domain", "Edge", "Elastic", "Expression", "Field", "Grading", "Loop", "PointSupport",
+           "Pressure",
            "Scene", "Support", "Symmetry", "Tip", "Traction", "VectorExpression"]

@@ -18,8 +18,8 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-__all__ = ["HISTORIES", "STEPPING_KEYS", "Heaviside", "ImpactPulse", "Ramp", "Stepping", "Tabulated",
-           "history_from_dict", "stepping_from_dict", "with_time_table"]
+__all__ = ["HISTORIES", "STEPPING_KEYS", "Heaviside", "ImpactPulse", "Linear", "Ramp", "Stepping",
+           "Tabulated", "history_from_dict", "stepping_from_dict", "with_time_table"]
 
 
 def _finite(name: str, v, positive: bool = False) -> float:
@@ -172,12 +172,37 @@ class ImpactPulse(_History):
         return np.where(inside, (self._raw(t) - p0) / (1.0 - p0), 0.0)
 
 
-HISTORIES = {c.kind: c for c in (Heaviside, Ramp, Tabulated, ImpactPulse)}
+@dataclass(frozen=True)
+class Linear(_History):
+    """Unbounded linear rise ``g(t) = rate * max(t - t0, 0)``: a prescribed displacement
+    ``ubar * g(t)`` moves at the constant velocity ``rate * ubar`` from ``t0`` on (an edge
+    pulled at a nominal strain rate: ``Support("top", uy=v0, history=Linear())`` gives
+    ``u_y = v0 t``). ``rate`` has units 1/time times those of the factor.
+
+    Examples
+    --------
+    >>> Linear()(2.0), Linear(rate=3.0, t0=1.0)(0.5), Linear(rate=3.0, t0=1.0)(2.0)
+    (2.0, 0.0, 3.0)
+    """
+
+    rate: float = 1.0
+    t0: float = 0.0
+    kind = "linear"
+
+    def __post_init__(self):
+        _finite("Linear: rate", self.rate)
+        _finite("Linear: t0", self.t0)
+
+    def values(self, t):
+        return self.rate * np.maximum(t - self.t0, 0.0)
+
+
+HISTORIES = {c.kind: c for c in (Heaviside, Ramp, Tabulated, ImpactPulse, Linear)}
 
 
 def history_from_dict(d, path: str = "history"):
     """A history from its scene-file table ``{kind = "heaviside" | "ramp" | "tabulated" |
-    "pulse", <fields>}``; errors name ``path``.
+    "pulse" | "linear", <fields>}``; errors name ``path``.
 
     Examples
     --------

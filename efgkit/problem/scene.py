@@ -17,6 +17,7 @@ import numpy as np
 from .crack import Crack
 from .exact.fields import Field
 from .geometry import COORDINATE_LIMIT, Domain
+from .graded import Grading
 from .material import Elastic
 from .supports import PointSupport, Pressure
 from .symmetry import Symmetry, full_domain
@@ -60,17 +61,23 @@ class Support:
     ux, uy : float, callable ``x (n, 2) -> (n,)``, Field, or None
         Prescribed component (None: free). A :class:`Field` prescribes its
         displacement component.
+    history : callable or None
+        Dynamic scenes: the prescribed components are ``g(t) ux(x)``, ``g(t) uy(x)``
+        (:mod:`efgkit.problem.history`; ``Linear()`` with ``uy=v0``: the edge moves at the
+        constant velocity ``v0``); None: constant in time.
     """
 
     edge: Where
     ux: float | Callable | Field | None = None
     uy: float | Callable | Field | None = None
+    history: Callable | None = None
 
     def __post_init__(self):
         if self.ux is None and self.uy is None:
             raise ValueError(f"support on {self.edge!r} prescribes nothing: give ux and/or uy")
         _check_value(f"support on {self.edge!r}: ux", self.ux, vector=False)
         _check_value(f"support on {self.edge!r}: uy", self.uy, vector=False)
+        _check_history(f"support on {self.edge!r}: history", self.history)
 
 
 @dataclass(frozen=True)
@@ -123,6 +130,7 @@ class Scene:
     initial_velocity: tuple[float, float] | Callable | Field | None = None
     point_supports: tuple[PointSupport, ...] = ()
     symmetry: Symmetry | None = None  # half and quarter models (efgkit.problem.symmetry)
+    grading: Grading | None = None  # position-dependent E and rho (efgkit.problem.graded)
 
     def __post_init__(self):
         if not isinstance(self.domain, Domain):
@@ -132,6 +140,8 @@ class Scene:
         for attr in ("supports", "tractions", "cracks", "point_supports"):
             object.__setattr__(self, attr, tuple(getattr(self, attr)))
         _check_points(self.point_supports, self.domain)
+        if self.grading is not None and not isinstance(self.grading, Grading):
+            raise TypeError(f"grading must be a Grading, got {type(self.grading).__name__}")
         if self.symmetry is not None:
             if not isinstance(self.symmetry, Symmetry):
                 raise TypeError(f"symmetry must be a Symmetry, got {type(self.symmetry).__name__}")
@@ -161,7 +171,8 @@ class Scene:
                                 ("initial_displacement", self.initial_displacement),
                                 ("initial_velocity", self.initial_velocity))
                  if v is not None] + [f"traction on {t.edge!r}: history" for t in self.tractions
-                                      if t.history is not None]
+                                      if t.history is not None] + [
+                     f"support on {s.edge!r}: history" for s in self.supports if s.history is not None]
         if timed and self.duration is None:
             raise ValueError(f"{timed[0]} is given but duration is None (a static scene, which "
                              "has no time): give duration to run the scene in time")

@@ -15,6 +15,7 @@ from ..problem import Expression, PointSupport, Scene, Support, Symmetry, Tracti
 from ..problem.crack import Crack
 from ..problem.exact.fields import Field
 from ..problem.geometry import Domain, Loop
+from ..problem.graded import Grading
 from ..problem.history import history_from_dict, with_time_table
 from ..problem.material import Elastic
 from ..problem.supports import Pressure
@@ -244,12 +245,14 @@ SCHEMA: dict[str, tuple[type, tuple[str, ...], dict[str, Callable | None]]] = {
         "point_supports": _many("point_supports"), "symmetry": _one("symmetry"), "efg": None,
         "time": None, "growth": None, "body_force_history": history_from_dict,
         "initial_displacement": _vector, "initial_velocity": _vector, "method": None,
-        "mlpg": None, "load_cases": None}),
+        "mlpg": None, "load_cases": None, "grading": _one("grading")}),
     "material": (Elastic, ("E", "nu"), {"E": _num, "nu": _num, "plane": _str, "rho": _num}),
     "domain": (Domain, ("outer",), {"outer": _loop, "holes": _many("holes", _loop)}),
-    "supports": (Support, ("edge",), {"edge": _str, "ux": _scalar, "uy": _scalar}),
+    "supports": (Support, ("edge",), {"edge": _str, "ux": _scalar, "uy": _scalar,
+                                        "history": history_from_dict}),
     "tractions": (Traction, ("edge", "t"), {"edge": _str, "t": _traction, "history": history_from_dict}),
     "point_supports": (PointSupport, ("x",), {"x": _pair, "ux": _num, "uy": _num}),
+    "grading": (Grading, (), {"modulus": _scalar, "density": _scalar}),
     "symmetry": (Symmetry, ("lines",), {"lines": _list, "cracks": _many("cracks")}),
     "cracks": (Crack, ("vertices",), {"vertices": _points, "tips": _tips, "name": _str,
                                       "pressure": _num}),

@@ -8,6 +8,7 @@ import numpy as np
 from ..methods.efg import EFG
 from ..problem.exact.fields import Field
 from ..problem.geometry import Loop
+from ..problem.history import HISTORIES
 from ..problem.scene import Scene
 from ..problem.supports import Pressure
 from .schema import SCHEMA, join_path
@@ -24,6 +25,8 @@ def _out(v, path: str):
         return _loop_out(v)
     if isinstance(v, Pressure):
         return {"pressure": v.p}
+    if isinstance(v, tuple(HISTORIES.values())):  # a load or support history
+        return v.as_dict()
     tables = [t for t, (cls, _, _) in SCHEMA.items() if type(v) is cls]
     if tables:
         return _record(v, tables[0], path)

@@ -1,0 +1,374 @@
+"""A crack on a symmetry line, released node by node during an explicit run (seed 000
+Sect. 5.2.1, Fig. 15).
+
+In a symmetric model the crack lies on the symmetry line ``y = y0``: the crack faces are
+the stretch of the line that is traction free, the ligament the stretch that carries the
+symmetry condition ``u_y = 0`` (an ordinary roller support, imposed by the Lagrange
+projection of :mod:`efgkit.explicit.system`). The nodes on the line cut it into segments
+``[x_j, x_{j+1}]``; a segment is open (crack face) or bonded (ligament). Propagation
+changes only this support: the nodes, K, M and the loads stay, each release rebuilds only
+the constraint projection: the line's Lagrange rows (piecewise-linear multiplier hats on the
+line's nodes, as :func:`~efgkit.methods.boundary.essential_conditions`) are sums of
+per-segment rows computed once, and a release re-factorises only ``G M^-1 G^T``.
+
+Criterion (seed 000 Sect. 5.2.1, after Batra and Love): every ``check_every`` steps the
+maximum principal stress ``sigma_1`` is evaluated at each bonded node of the line (a node
+whose two segments are bonded); a node where ``sigma_1 >= sigma_c`` is released:
+
+* next to a crack tip (the node beyond it is a tip of an open stretch: seed Fig. 15a), the
+  segment between them opens and the released node is the new tip;
+* elsewhere (Fig. 15b), both its segments open: a new crack with tips at the two
+  neighbours (both sides next to tips: the cracks join).
+
+The criterion applies at every node, so new cracks may start away from the tip; the
+nodes are scanned by increasing x and each release is applied before the next node is
+tested in the same check. Crack length = the x of the tip of the open stretch that
+starts at the line's first node (``x_0``, the centre of the plate); its speed the
+least-squares slope over 11 points (:func:`~efgkit.growth.running_tip.speed_fit`, seed 000:
+5 before and 5 after). The face gap of the seed (delta = 2e-3 mm between the two copies of
+a split particle) has no counterpart here: the two faces of a symmetric model are mirror
+images, the released node moves off the line freely.
+
+The step is ``safety`` times the critical step of the system without any line constraint
+(releasing constraints can only raise omega_max: the bound holds for every crack state).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+from scipy.sparse import csr_array, vstack
+
+from ..explicit import State, dynamics, integrate, stable_step
+from ..explicit.system import Projection
+from ..problem.history import Stepping
+from ..problem.material import strain_from_gradient
+from .dynamic import principal_stress
+from .running_tip import speed_fit
+
+__all__ = ["LineRelease", "Released", "release_segments", "run_release"]
+
+
+@dataclass(frozen=True)
+class LineRelease:
+    """Release of the symmetry line ``y = y0`` (its nodes' ``u_y = 0`` support) where the
+    maximum principal stress reaches ``sigma_c`` (stress units of the scene; a callable
+    ``x (m, 2) -> (m,)``: a value per node of the line, e.g. a graded strength), checked
+    every ``check_every`` steps; ``a0``: the initial crack, open from the line's first
+    node (smallest x, the centre of the body) over ``a0`` (rounded to the nearest node);
+    ``cracks``: further initial cracks on the line, ``((x_start, x_end), ...)`` (ends
+    rounded to the nearest nodes); nodes within ``tol`` of ``y0`` are on the line."""
+
+    sigma_c: float | Callable
+    a0: float
+    y0: float = 0.0
+    check_every: int = 1
+    tol: float = 1e-9
+    cracks: tuple = ()
+
+    def __post_init__(self):
+        for name in ("a0",) if callable(self.sigma_c) else ("sigma_c", "a0"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v <= 0:
+                raise ValueError(f"{name} must be a finite number > 0, got {v!r}")
+        c = np.asarray(self.cracks, float).reshape(-1, 2) if len(self.cracks) else np.zeros((0, 2))
+        if not (np.all(np.isfinite(c)) and np.all(c[:, 1] > c[:, 0])):
+            raise ValueError(f"cracks must be pairs (x_start, x_end) with x_end > x_start, "
+                             f"got {self.cracks!r}")
+        object.__setattr__(self, "cracks", tuple(map(tuple, c.tolist())))
+        if isinstance(self.check_every, bool) or not isinstance(self.check_every, int) \
+                or self.check_every < 1:
+            raise ValueError(f"check_every must be an int >= 1 (steps), got {self.check_every!r}")
+
+
+@dataclass(frozen=True, eq=False)
+class Released:
+    """Result of :func:`run_release`.
+
+    Attributes
+    ----------
+    t, length : ndarray (k,)
+        The instants at which the main crack grew and its length after (the initial
+        point ``(0, a0)`` first).
+    speed : ndarray (k,)
+        Least-squares speed over 11 growth points (NaN at the start and with fewer than
+        2 growth points).
+    releases : dict
+        Every release: ``t``, ``x`` (node), ``new_crack`` (bool: away from a tip).
+    history : dict
+        At the output instants: ``t``, ``length``, ``sigma1_max`` (the largest sigma_1
+        over the bonded line nodes), ``ratio_max`` (the largest sigma_1 / sigma_c there),
+        ``kinetic``, ``work``.
+    line_x : ndarray (m,)
+        The line's nodes; ``open`` (m - 1,) bool: the final open segments.
+    tips : dict
+        ``t (k,)`` (0, then every check with a release) and ``x (k, n_cracks, 2)``: the
+        left and right ends of the open stretch holding each initial crack (the main
+        crack first; stretches that joined share their ends).
+    stop : str
+    state : State
+    info, timings : dict
+    """
+
+    t: np.ndarray
+    length: np.ndarray
+    speed: np.ndarray
+    releases: dict
+    history: dict
+    line_x: np.ndarray
+    open: np.ndarray
+    stop: str
+    state: object = None
+    info: dict = field(default_factory=dict)
+    timings: dict = field(default_factory=dict)
+    tips: dict = field(default_factory=dict)
+
+
+class _Line:
+    """The nodes of the line, their segments and the support of the bonded ones."""
+
+    def __init__(self, disc, rule: LineRelease):
+        x = disc.nodes.x
+        on = np.abs(x[:, 1] - rule.y0) <= rule.tol * max(disc.scene.domain.size, 1.0)
+        xs = np.unique(np.round(x[on, 0], 12))
+        if len(xs) < 3:
+            raise ValueError(f"the line y = {rule.y0!r} holds {len(xs)} nodes; it needs at least 3 "
+                             "(put a row of nodes on the symmetry line)")
+        self.x = xs
+        self.open = np.zeros(len(xs) - 1, bool)
+        k = int(np.argmin(np.abs(xs - (xs[0] + rule.a0))))
+        if k == 0:
+            raise ValueError(f"a0 = {rule.a0!r} is shorter than half the first node interval "
+                             f"({xs[1] - xs[0]:.6g}): the initial crack needs at least one segment")
+        self.open[:k] = True
+        for x0, x1 in rule.cracks:
+            i, j = (int(np.argmin(np.abs(xs - v))) for v in (x0, x1))
+            if j <= i:
+                raise ValueError(f"crack ({x0!r}, {x1!r}) spans no segment of the line's nodes")
+            self.open[i:j] = True
+        # a point inside each initial crack, to follow its tips
+        self.seeds = [0.5 * (xs[0] + xs[k])] + [0.5 * (a + b) for a, b in rule.cracks]
+        self.y0 = rule.y0
+        self.shape = disc.shape_at(np.column_stack([xs, np.full(len(xs), rule.y0)]), derivatives=True)
+        self.D = disc.scene.material.D
+        g = disc.scene.grading  # graded: D(x) = modulus(x) D
+        on_line = np.column_stack([xs, np.full(len(xs), rule.y0)])
+        self.fE = np.ones(len(xs)) if g is None else g.factors(on_line)[0]
+        sc = rule.sigma_c
+        self.sigma_c = np.broadcast_to(np.asarray(sc(on_line) if callable(sc) else sc, float), (len(xs),))
+        if not np.all(np.isfinite(self.sigma_c) & (self.sigma_c > 0)):
+            k = int(np.flatnonzero(~(np.isfinite(self.sigma_c) & (self.sigma_c > 0)))[0])
+            raise ValueError(f"sigma_c is {float(self.sigma_c[k])!r} at the line's node "
+                             f"x = {float(xs[k])!r}: the critical stress must be finite and > 0 "
+                             "at every node")
+        # per segment j: rows 2j, 2j + 1 = int_seg (1 - s) u_y, int_seg s u_y (3-point Gauss)
+        g, gw = np.polynomial.legendre.leggauss(3)
+        g, gw = 0.5 * (g + 1), 0.5 * gw
+        L = np.diff(xs)
+        px = (xs[:-1, None] + L[:, None] * g[None, :]).ravel()
+        pts = np.column_stack([px, np.full(len(px), rule.y0)])
+        uy = disc.shape_at(pts, derivatives=False).u_operators()[1]
+        w = (L[:, None] * gw[None, :]).ravel()
+        sg = np.tile(g, len(L))
+        rows = np.repeat(np.arange(len(L)), len(g))
+        W = csr_array((np.concatenate([w * (1 - sg), w * sg]),
+                       (np.concatenate([2 * rows, 2 * rows + 1]), np.tile(np.arange(len(px)), 2))),
+                      shape=(2 * len(L), len(px)))
+        self.B = csr_array(W @ uy)
+
+    def length(self) -> float:
+        closed = np.flatnonzero(~self.open)
+        return float(self.x[closed[0]] - self.x[0]) if len(closed) else float(self.x[-1] - self.x[0])
+
+    def tips(self) -> np.ndarray:
+        """The ends ``(x_left, x_right)`` of the open stretch holding each initial crack,
+        shape (n_cracks, 2)."""
+        j = np.clip(np.searchsorted(self.x, self.seeds, side="right") - 1, 0, len(self.open) - 1)
+        closed = np.flatnonzero(~self.open)
+        out = np.empty((len(j), 2))
+        for i, k in enumerate(j):  # a few cracks
+            left = closed[closed < k]
+            right = closed[closed > k]
+            out[i] = (self.x[left[-1] + 1] if len(left) else self.x[0],
+                      self.x[right[0]] if len(right) else self.x[-1])
+        return out
+
+    def rows(self) -> csr_array:
+        """The Lagrange rows ``int_bonded N_k u_y dx = 0`` of the bonded segments, one per
+        hat ``N_k`` (piecewise linear on the line's nodes, as
+        :func:`~efgkit.methods.boundary.essential_conditions`), shape (r, n_dofs)."""
+        bonded = (~self.open).astype(float)
+        m = len(self.x)
+        # hat k gets the right-end part of segment k - 1 and the left-end part of segment k
+        hat = np.concatenate([np.arange(m - 1), np.arange(1, m)])
+        seg = np.concatenate([np.arange(m - 1), np.arange(m - 1)])
+        S = csr_array((np.concatenate([bonded, bonded]), (hat, seg * 2 + np.r_[np.zeros(m - 1, int),
+                                                                                np.ones(m - 1, int)])),
+                      shape=(m, 2 * (m - 1)))
+        G = csr_array(S @ self.B)
+        used = np.flatnonzero(np.diff(G.indptr) > 0)
+        return csr_array(G[used])
+
+    def sigma1(self, u) -> np.ndarray:
+        s = strain_from_gradient(self.shape.gradient(u)) @ self.D.T
+        return principal_stress(self.fE[:, None] * s)
+
+    def release(self, s1: np.ndarray, sigma_c) -> list[tuple[float, bool]]:
+        """Open the segments of the nodes where ``s1 >= sigma_c``: ``[(x, new_crack)]``."""
+        return [(float(self.x[k]), new) for k, new in release_segments(self.open, s1, sigma_c)]
+
+
+def release_segments(open_: np.ndarray, sigma1: np.ndarray, sigma_c) -> list[tuple[int, bool]]:
+    """Nodal release on a line (seed 000 Fig. 15), in place on ``open_``.
+
+    Parameters
+    ----------
+    open_ : ndarray (m - 1,) bool
+        Segment ``j`` joins nodes ``j`` and ``j + 1``; True: open (crack face). Modified.
+    sigma1 : ndarray (m,)
+        Maximum principal stress at the nodes.
+    sigma_c : float or ndarray (m,)
+
+    Returns
+    -------
+    list of (node index, new_crack)
+        The released nodes, by increasing index: a bonded node (both segments closed, not
+        an end of the line) with ``sigma1 >= sigma_c``. Next to a tip on one side (node
+        ``k - 1`` ends an open stretch: segment ``k - 2`` open) it becomes the new tip
+        (segment ``k - 1`` opens; mirrored for a tip at ``k + 1``); otherwise both its
+        segments open (a new crack, ``new_crack`` True, or two cracks joined when tips
+        lie on both sides). Then a bonded segment between two tips (no bonded node left
+        on it) opens when either tip reaches ``sigma_c``: the cracks join.
+
+    Examples
+    --------
+    >>> op = np.array([True, False, False, False, False, False])
+    >>> release_segments(op, np.array([0, 0, 5.0, 0, 0, 5.0, 0]), 1.0)
+    [(2, False), (5, True)]
+    >>> op.astype(int).tolist()
+    [1, 1, 0, 0, 1, 1]
+    """
+    out, m = [], len(open_) + 1
+    for k in np.flatnonzero(np.asarray(sigma1) >= sigma_c):  # sigma_c: a number or (m,)
+        if k == 0 or k == m - 1 or open_[k - 1] or open_[k]:
+            continue  # an end of the line, a tip or a face node: not bonded
+        tip_left = k >= 2 and bool(open_[k - 2])
+        tip_right = k + 1 < m - 1 and bool(open_[k + 1])
+        if tip_left and not tip_right:
+            open_[k - 1] = True
+        elif tip_right and not tip_left:
+            open_[k] = True
+        else:
+            open_[k - 1] = open_[k] = True
+        out.append((int(k), not (tip_left or tip_right)))
+    # a one-segment ligament between two tips (left by a new crack two nodes from a tip)
+    # has no bonded node: it opens when either of its tips reaches sigma_c
+    for j in np.flatnonzero(~open_[1:-1]) + 1:
+        over = np.asarray(sigma1)[j:j + 2] >= np.broadcast_to(sigma_c, (m,))[j:j + 2]
+        if open_[j - 1] and open_[j + 1] and over.any():
+            open_[j] = True
+            out.append((int(j if over[0] else j + 1), False))
+    return out
+
+
+def run_release(scene, method, rule: LineRelease, stepping: Stepping | None = None, *,
+                max_length: float | None = None, progress: bool = False) -> Released:
+    """Explicit run of ``scene`` (EFG, bc="lagrange") whose symmetry line ``y = rule.y0``
+    is released by the principal-stress criterion (module docstring). ``scene`` holds
+    every other support (the line's rows are added here). Stops at ``scene.duration``, when the
+    main crack reaches ``max_length`` or the line's end.
+    """
+    if not isinstance(rule, LineRelease):
+        raise TypeError(f"rule must be a LineRelease, got {type(rule).__name__}")
+    stepping = Stepping() if stepping is None else stepping
+    t0 = time.perf_counter()
+    dyn0 = dynamics(scene, replace(method, bc="lagrange"))
+    line = _Line(dyn0.disc, rule)
+    P0 = dyn0.projection
+    G0 = P0.G if P0 is not None else csr_array((0, dyn0.n_dofs))
+    q0 = P0.q if P0 is not None else np.zeros(0)
+    # the line rows scaled like the others (the projection does not depend on row scales;
+    # similar scales keep G M^-1 G^T well conditioned for the LU)
+    scale = abs(G0).max() / abs(line.B).max() if G0.shape[0] else 1.0
+
+    def system():
+        Gl = line.rows()
+        G = csr_array(vstack([G0, scale * Gl], format="csr"))
+        P = Projection.build(G, np.concatenate([q0, np.zeros(Gl.shape[0])]), dyn0.minv)
+        Q = None if dyn0.Q is None else np.vstack([dyn0.Q, np.zeros((Gl.shape[0], dyn0.Q.shape[1]))])
+        return replace(dyn0, projection=P, Q=Q)
+
+    dyn = system()
+    free = stable_step(replace(dyn0, projection=None, Q=None, q_histories=()))
+    dt = stepping.dt or stepping.safety * free[0]
+    timings = {"setup": time.perf_counter() - t0, "integrate": 0.0, "release": 0.0, "check": 0.0}
+    n_total = math.ceil(scene.duration / dt - 1e-9)
+    every = max(1, round((stepping.output_interval or scene.duration / 100) / dt))
+    step, state, stop = 0, None, None
+    ta, la = [0.0], [line.length()]
+    tip_t, tip_x = [0.0], [line.tips()]
+    rel = {"t": [], "x": [], "new_crack": []}
+    hist = {"t": [], "length": [], "sigma1_max": [], "ratio_max": [], "kinetic": [], "work": []}
+    lim = line.x[-1] - line.x[0] if max_length is None else max_length
+    st = replace(stepping, dt=dt, output_interval=None)
+    while step < n_total:
+        nxt = min(step + rule.check_every, n_total)
+        t1 = time.perf_counter()
+        sol = integrate(dyn.disc.scene, method, st, dyn=dyn, state=state, steps=nxt - step,
+                        dsif=None, critical=free, progress=False)
+        timings["integrate"] += time.perf_counter() - t1
+        state, step = sol.state, nxt
+        t1 = time.perf_counter()
+        s1 = line.sigma1(state.u)
+        bonded = ~np.r_[True, line.open] & ~np.r_[line.open, True]
+        if step % every < rule.check_every or step == n_total:
+            hist["t"].append(step * dt)
+            hist["length"].append(line.length())
+            hist["sigma1_max"].append(float(s1[bonded].max()) if bonded.any() else math.nan)
+            hist["ratio_max"].append(float((s1 / line.sigma_c)[bonded].max()) if bonded.any() else math.nan)
+            hist["kinetic"].append(float(sol.history["kinetic"][-1]))
+            hist["work"].append(float(sol.history["work"][-1]))
+        events = line.release(s1, line.sigma_c)
+        timings["check"] += time.perf_counter() - t1
+        if not events:
+            continue
+        t1 = time.perf_counter()
+        for x, new in events:
+            rel["t"].append(step * dt)
+            rel["x"].append(x)
+            rel["new_crack"].append(new)
+        a = line.length()
+        tip_t.append(step * dt)
+        tip_x.append(line.tips())
+        if a > la[-1]:
+            ta.append(step * dt)
+            la.append(a)
+        dyn = system()
+        P = dyn.projection
+        q_now, q_before = dyn.prescribed(step * dt), dyn.prescribed((step - 1) * dt)
+        u = state.u - P.correction(state.u, q_now)
+        v = state.v - P.minv_GT @ P.lu.solve(P.G @ state.v - (q_now - q_before) / dt)
+        state = State(step, dt, u, v, state.work, None, 0.0, 0.0)
+        timings["release"] += time.perf_counter() - t1
+        if progress:
+            print(f"t = {step * dt:.4g}: crack length {a:.4g}", flush=True)
+        if a >= lim - 1e-12:
+            stop = f"crack length {a:.6g} reached {lim:.6g}"
+            break
+    if stop is None:
+        stop = f"duration {scene.duration:.6g} reached"
+    t, a = np.array(ta), np.array(la)
+    speed = np.full(len(t), math.nan)  # the fit over the growth instants (not the start)
+    if len(t) >= 3:
+        speed[1:] = speed_fit(t[1:], a[1:])
+    timings["total"] = time.perf_counter() - t0
+    info = {"dt": dt, "dt_critical_free": free[0], "steps": step, "n_nodes": dyn.disc.nodes.n,
+            "line_nodes": len(line.x), "releases": len(rel["t"])}
+    tips = {"t": np.array(tip_t), "x": np.array(tip_x)}
+    return Released(t, a, speed, {k: np.array(v) for k, v in rel.items()},
+                    {k: np.array(v) for k, v in hist.items()}, line.x, line.open.copy(), stop,
+                    state, info, timings, tips)

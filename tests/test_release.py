@@ -1,0 +1,103 @@
+"""Crack growth by nodal release on a symmetry line (seed 000 Sect. 5.2.1, Fig. 15)."""
+
+import numpy as np
+import pytest
+
+from efgkit import EFG, Domain, Elastic, Linear, Scene, Support
+from efgkit.growth.release import LineRelease, release_segments, run_release
+from efgkit.problem.history import Stepping
+
+MAT = Elastic(400e3, 0.29, "strain", rho=19300e-12)  # tungsten, seed 000 Sect. 5.2.1 (mm, MPa, t/mm^3)
+W, V0 = 2.0, 1e4  # quarter plate (mm), top edge velocity (mm/s)
+
+
+def plate(duration=1.5e-6):
+    X, Y = np.meshgrid(np.linspace(0, W, 21), np.linspace(0, W, 21))
+    m = EFG(spacing=0.1, coordinates=np.c_[X.ravel(), Y.ravel()], d_max=2.0, zones=(),
+            enrichment="none", bc="lagrange")
+    sc = Scene(Domain.rectangle(0, 0, W, W), MAT, duration=duration,
+               supports=(Support("left", ux=0.0), Support("top", uy=V0, history=Linear())))
+    return sc, m
+
+
+def test_release_rules_of_seed_fig_15():
+    s = np.zeros(8)
+    op = np.array([1, 1, 0, 0, 0, 0, 0], bool)  # a crack over nodes 0-2, tip at node 2
+    s[3] = 2.0  # next to the tip (Fig. 15a): one segment, node 3 the new tip
+    assert release_segments(op, s, 1.0) == [(3, False)]
+    assert op.tolist() == [1, 1, 1, 0, 0, 0, 0]
+    s[:] = 0
+    s[5] = 2.0  # away from the tip (Fig. 15b): both segments, a new crack with tips 4 and 6
+    assert release_segments(op, s, 1.0) == [(5, True)]
+    assert op.tolist() == [1, 1, 1, 0, 1, 1, 0]
+    s[:] = 0
+    s[0] = s[7] = 2.0  # line ends never release
+    assert release_segments(op, s, 1.0) == []
+    s[4] = 2.0  # the one-segment ligament between tips 3 and 4 opens: the cracks join
+    assert release_segments(op, s, 1.0) == [(4, False)]
+    assert op.tolist() == [1, 1, 1, 1, 1, 1, 0]
+    s[:] = 0
+    s[2] = 5.0  # a face node: nothing
+    assert release_segments(op, s, 1.0) == [] and op.tolist() == [1, 1, 1, 1, 1, 1, 0]
+    op = np.array([0, 0, 0, 0, 0, 0, 0], bool)
+    s[:] = 0
+    s[2] = s[4] = 2.0  # node 2 opens a new crack (tips 1, 3); node 4, tested after it, is
+    # next to tip 3 and becomes the tip (releases in one check apply in order of x)
+    assert release_segments(op, s, 1.0) == [(2, True), (4, False)]
+    assert op.tolist() == [0, 1, 1, 1, 0, 0, 0]
+
+
+def test_crack_runs_after_the_wave_arrives_and_below_rayleigh():
+    sc, m = plate()
+    r = run_release(sc, m, LineRelease(2500.0, 0.3), Stepping(output_interval=0.05e-6))
+    # causality: nothing reaches the line before the P wave from the pulled edge,
+    # W / c_d = 0.384 us (closed form); measured first release 0.452 us
+    assert r.t[1] >= W / MAT.c_dilatational
+    assert r.t[1] <= 0.6e-6  # the reflected wave (2 rho c_d V0 = 2.0 GPa) plus the tip field
+    assert np.all(np.diff(r.length) > 0) and r.length[0] == pytest.approx(0.3)
+    assert np.allclose(r.releases["x"][:3], [0.4, 0.5, 0.6]) and not r.releases["new_crack"].any()
+    # least-squares speed (11 points): measured 1638 m/s at initiation, 2114 m/s at the end
+    v = r.speed[1:]
+    assert np.all(v > 0) and np.all(v < MAT.c_rayleigh)
+    assert r.open[:3].all() and r.history["t"].size > 10
+
+
+def test_side_crack_tips_are_followed():
+    sc, m = plate(1.0e-6)
+    r = run_release(sc, m, LineRelease(2500.0, 0.3, cracks=((1.0, 1.4),)))
+    x = r.tips["x"]
+    assert x.shape[1:] == (2, 2) and np.allclose(x[0], [[0.0, 0.3], [1.0, 1.4]])
+    # ends only move outwards; every recorded instant after the first has a release
+    assert np.all(np.diff(x[:, :, 1], axis=0) >= 0) and np.all(np.diff(x[:, :, 0], axis=0) <= 0)
+    assert len(r.tips["t"]) == len(np.unique(r.releases["t"])) + 1
+    # measured: the side crack's inner tip moves 1.0 -> 0.8, its outer 1.4 -> 1.5, then the
+    # ligament between the cracks fails and they run on as one (shared ends)
+    assert x[:, 1, 0].min() < 1.0 and x[:, 1, 1].max() > 1.4
+    assert np.allclose(x[-1, 0], x[-1, 1])
+
+
+def test_position_dependent_strength_stops_the_crack():
+    # sigma_c far above any stress from x = 0.6 on: the crack runs to 0.5 and stops there
+    sc, m = plate()
+    r = run_release(sc, m, LineRelease(lambda x: np.where(x[:, 0] < 0.55, 2500.0, 1e9), 0.3))
+    assert r.length[-1] == pytest.approx(0.5) and r.releases["x"].tolist() == [0.4, 0.5]
+    assert r.history["ratio_max"][-1] < 1e-3 and np.nanmax(r.history["ratio_max"]) >= 1.0
+
+
+@pytest.mark.parametrize("make, err, match", [
+    (lambda: LineRelease(-1.0, 0.3), ValueError, "sigma_c must be a finite number > 0"),
+    (lambda: LineRelease(1.0, 0.3, check_every=0), ValueError, "check_every must be an int >= 1"),
+    (lambda: LineRelease(1.0, 0.3, cracks=((1.0, 0.5),)), ValueError, "cracks must be pairs"),
+    (lambda: run_release(*plate(), LineRelease(lambda x: 1.0 - x[:, 0], 0.3)), ValueError,
+     "sigma_c is 0.0 at the line's node x = 1.0: the critical stress must be finite"),
+    (lambda: run_release(*plate(), LineRelease(1.0, 0.3, cracks=((1.0, 1.02),))), ValueError,
+     r"crack \(1.0, 1.02\) spans no segment"),
+    (lambda: run_release(*plate(), rule=None), TypeError, "rule must be a LineRelease"),
+    (lambda: run_release(*plate(), LineRelease(1.0, 0.3, y0=0.05)), ValueError,
+     "the line y = 0.05 holds 0 nodes"),
+    (lambda: run_release(*plate(), LineRelease(1.0, 0.01)), ValueError,
+     "a0 = 0.01 is shorter than half the first node interval"),
+])
+def test_errors(make, err, match):
+    with pytest.raises(err, match=match):
+        make()
