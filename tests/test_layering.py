@@ -18,7 +18,7 @@ STAGES = [
     ("approx",),                                                # shape functions
     ("system",),                                                # K, f, M; constraints; solvers
     ("methods.discretize", "methods.local", "methods.boundary",  # scene + method -> discrete
-     "methods.size"),
+     "methods.size", "methods.crack_choices"),
     ("io", "plot"),                                             # files and figures of results
     ("solution", "meshless_solution"),                          # the result contract
     ("static", "explicit", "fem", "loadcases"),                 # drivers and the FE reference
