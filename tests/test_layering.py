@@ -17,7 +17,8 @@ STAGES = [
     ("nodes", "search", "quadrature", "fracture"),              # points; fields -> K, J
     ("approx",),                                                # shape functions
     ("system",),                                                # K, f, M; constraints; solvers
-    ("methods.discretize", "methods.local", "methods.boundary",  # scene + method -> discrete
+    ("methods.discretize", "methods.local", "methods.local_nodes", "methods.local_size",
+     "methods.boundary",  # scene + method -> discrete
      "methods.size"),
     ("io", "plot"),                                             # files and figures of results
     ("solution", "meshless_solution"),                          # the result contract
