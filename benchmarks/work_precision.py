@@ -76,7 +76,7 @@ PROBLEMS = {  # scene, J-domain radii, EFG spacings (full, quick), FEM sizes (fu
         "graded": (((2.0, 1.0), (1.0, 0.5), (1.0, 0.2), (0.5, 0.1), (0.5, 0.05), (0.25, 0.02),
                     (0.25, 0.005)), ((1.0, 0.2), (0.5, 0.05))),
         "uniform": ((0.5, 0.25, 0.125, 0.0625, 0.03125, 0.015625), (0.5, 0.25)),
-        "mlpg": (2.0 / np.array([4, 8, 16, 32]), 2.0 / np.array([4, 8]))},
+        "mlpg": (2.0 / np.array([4, 8, 16, 32]), 2.0 / np.array([4]))},
     "SENT": {
         "scene": sent_scene, "radii": (1.0, 2.0, 3.0, 4.0),
         "efg": (W / np.array([5, 10, 20, 40, 80]), W / np.array([5, 10])),
@@ -84,7 +84,7 @@ PROBLEMS = {  # scene, J-domain radii, EFG spacings (full, quick), FEM sizes (fu
         "graded": (((4.0, 1.0), (4.0, 0.5), (2.0, 0.2), (1.0, 0.1), (1.0, 0.05), (0.5, 0.02), (0.25, 0.01)),
                    ((4.0, 1.0), (2.0, 0.2))),
         "uniform": ((2.0, 1.0, 0.5, 0.25, 0.125), (2.0, 1.0)),
-        "mlpg": (W / np.array([5, 10, 20, 40]), W / np.array([5, 10]))},  # 80 across: 32k nodes
+        "mlpg": (W / np.array([5, 10, 20, 40]), W / np.array([5]))},  # 80 across: 32k nodes
 }
 
 

@@ -39,7 +39,8 @@ def test_work_precision_quick_runs_and_reports_every_curve():
     assert "## SENT" in md and "Time to 0.1 % error" in md
 
 
-def test_work_precision_mlpg_section(tmp_path):
+@pytest.mark.slow
+def test_work_precision_mlpg_quick_runs():
     spec = importlib.util.spec_from_file_location("bench_wp", BENCH / "work_precision.py")
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
@@ -47,10 +48,25 @@ def test_work_precision_mlpg_section(tmp_path):
     for r in res["problems"].values():
         assert set(r["curves"]) == {"EFG extrinsic MLS", "FEM P2 graded, quarter-point"} | {
             f"MLPG {v}" for v in mod.MLPG_VARIANTS}
+
+
+def test_work_precision_mlpg_section(tmp_path):
+    spec = importlib.util.spec_from_file_location("bench_wp", BENCH / "work_precision.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    pt = {"h": 1.0, "n_dofs": 10, "seconds": 1.0, "error": 1e-2}
+    curves = {"EFG extrinsic MLS": [{**pt, "error": 1e-4}],
+              "MLPG extrinsic MLS": [{**pt, "seconds": 2.0}, {**pt, "seconds": 8.0, "error": 1e-4}],
+              "FEM P2 graded, quarter-point": [pt, {**pt, "seconds": 4.0, "error": 1e-4}]}
+    r = mod.summarise(curves)
+    res = {"machine": "m", "date": "d", "repeat": 1, "problems": {"SENT": {"curves": curves, **r}}}
     text = mod.mlpg_section(res, "cmd")
-    assert text.startswith("<!-- begin:mlpg_work_precision -->") and "| MLPG extrinsic MLS |" in text
+    assert text.startswith("<!-- begin:mlpg_work_precision -->") and "| MLPG extrinsic MLS | h = 1 |" in text
+    # 0.1 % lies midway (log-log) between 1e-2 and 1e-4: MLPG 4 s, graded P2 2 s
+    assert "MLPG extrinsic MLS reaches it, time ratio to graded P2 = 2.00" in text
     page = tmp_path / "performance.md"
-    page.write_text("intro\n<!-- begin:mlpg_work_precision -->\nold\n<!-- end:mlpg_work_precision -->\ntail\n")
+    a, b = "<!-- begin:mlpg_work_precision -->", "<!-- end:mlpg_work_precision -->"
+    page.write_text(f"intro\n{a}\nold\n{b}\ntail\n")
     mod.write_section(text, page)
     new = page.read_text()
     assert new.startswith("intro\n") and new.endswith("tail\n") and "old" not in new
