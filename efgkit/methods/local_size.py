@@ -34,9 +34,10 @@ __all__ = ["local_size_estimate", "CUT_ROWS", "CUT_PIECES"]
 CUT_ROWS = 2.0
 CUT_PIECES = 2.0
 NODE_BYTES_DIRECT = 35e3  # per node beyond the shape functions: K, its LU (SuperLU), f
-# per node with GMRES (not measured: K has ~82 non-zeros per row, about 2 kB per node, the
-# ILU factors with fill_factor 10 ten times that, the GMRES(50) basis 0.8 kB)
-NODE_BYTES_KRYLOV = 25e3
+# per node with GMRES: K (147 non-zeros per node, 1.8 kB) and its ILU factors (drop 1e-5,
+# fill 20: nnz(L + U) 2,290 per node at 100k nodes, 27 kB; efgkit.system.krylov), the GMRES(50)
+# basis 0.8 kB; counted from the measured non-zeros, not a measured peak
+NODE_BYTES_KRYLOV = 30e3
 
 
 def local_size_estimate(scene: Scene, method: MLPG) -> SizeEstimate:
