@@ -1,8 +1,11 @@
 """Work against accuracy: error of K (singular patch) and of J (SENT) against wall time, for
-EFG variants and scikit-fem P2, written to docs/performance_work_precision.md.
+EFG and MLPG variants and scikit-fem P2, written to docs/performance_work_precision.md.
 
-Run:  python benchmarks/work_precision.py            (full, ~15 minutes)
+Run:  python benchmarks/work_precision.py            (full, ~25 minutes)
       python benchmarks/work_precision.py --quick    (a smoke run, small sizes)
+      python benchmarks/work_precision.py --mlpg     (MLPG beside EFG extrinsic MLS and graded
+                                                      P2 only; prints the section of
+                                                      docs/performance.md, ~10 minutes)
 
 Every point is the wall time (time.perf_counter) of the whole pipeline from the scene to
 the stress intensity factors: discretisation or meshing, assembly, solve and the domain
@@ -32,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from efgkit import EFG, Rosette, Scene, solve
+from efgkit import EFG, MLPG, Rosette, Scene, solve
 from efgkit.fem.model import FEM, solve_fem
 from efgkit.gallery import sent_seed001, singular_patch
 from efgkit.io import write_json
@@ -47,6 +50,13 @@ VARIANTS = {  # EFG options beyond the spacing; Nitsche supports (bc="variationa
     "full intrinsic": lambda h: {"enrichment": "full", "d_max": 3.0},
     "extrinsic MLS": lambda h: {"enrichment": "extrinsic_mls"},
     "PU": lambda h: {"enrichment": "pu"},
+}
+
+# MLPG1 (issue 14) as in verification/mlpg_fracture.py: the seed's plain variant (visibility,
+# quadratic basis, d_max 2.5) and the diffraction rule with extrinsic MLS enrichment
+MLPG_VARIANTS = {
+    "plain (seed 002)": lambda h: {},
+    "extrinsic MLS": lambda h: {"enrichment": "extrinsic_mls", "crack_rule": "diffraction"},
 }
 
 
@@ -65,14 +75,16 @@ PROBLEMS = {  # scene, J-domain radii, EFG spacings (full, quick), FEM sizes (fu
         "efg_full_intrinsic_max": 16,  # finer grids: singular 7-term moment matrices (see report)
         "graded": (((2.0, 1.0), (1.0, 0.5), (1.0, 0.2), (0.5, 0.1), (0.5, 0.05), (0.25, 0.02),
                     (0.25, 0.005)), ((1.0, 0.2), (0.5, 0.05))),
-        "uniform": ((0.5, 0.25, 0.125, 0.0625, 0.03125, 0.015625), (0.5, 0.25))},
+        "uniform": ((0.5, 0.25, 0.125, 0.0625, 0.03125, 0.015625), (0.5, 0.25)),
+        "mlpg": (2.0 / np.array([4, 8, 16, 32]), 2.0 / np.array([4]))},
     "SENT": {
         "scene": sent_scene, "radii": (1.0, 2.0, 3.0, 4.0),
         "efg": (W / np.array([5, 10, 20, 40, 80]), W / np.array([5, 10])),
         "efg_full_intrinsic_max": 40,
         "graded": (((4.0, 1.0), (4.0, 0.5), (2.0, 0.2), (1.0, 0.1), (1.0, 0.05), (0.5, 0.02), (0.25, 0.01)),
                    ((4.0, 1.0), (2.0, 0.2))),
-        "uniform": ((2.0, 1.0, 0.5, 0.25, 0.125), (2.0, 1.0))},
+        "uniform": ((2.0, 1.0, 0.5, 0.25, 0.125), (2.0, 1.0)),
+        "mlpg": (W / np.array([5, 10, 20, 40]), W / np.array([5]))},  # 80 across: 32k nodes
 }
 
 
@@ -101,6 +113,18 @@ def efg_point(sc, problem: str, variant: str, h: float, ref: float, repeat: int)
 
     t, (n, res), k = _timed(run, repeat)
     return {"h": float(h), "n_nodes": n, "n_dofs": 2 * n, "seconds": t, "runs": k,
+            "error": _error(problem, res, ref)}
+
+
+def mlpg_point(sc, problem: str, variant: str, h: float, ref: float, repeat: int) -> dict:
+    radii = PROBLEMS[problem]["radii"]
+    method = MLPG(spacing=float(h), **MLPG_VARIANTS[variant](h))
+    def run():
+        s = solve(sc, method)
+        return s.nodes.n, len(s.coeffs), s.sifs(radii=radii, error=False)[0]
+
+    t, (n, nd, res), k = _timed(run, repeat)
+    return {"h": float(h), "n_nodes": n, "n_dofs": nd, "seconds": t, "runs": k,
             "error": _error(problem, res, ref)}
 
 
@@ -141,16 +165,32 @@ def summarise(curves: dict) -> dict:
     fem = reach["FEM P2 graded, quarter-point"]
     ratios, bounds = {}, {}
     for k, r in reach.items():
-        if k.startswith("EFG") and r["seconds"] is not None and fem["seconds"]:
+        if k.startswith(("EFG", "MLPG")) and r["seconds"] is not None and fem["seconds"]:
             ratios[k] = r["seconds"] / fem["seconds"]
             # an upper bound on one time bounds the ratio one way; on both, not at all
             bounds[k] = {("=", "="): "=", ("<=", "="): "<=", ("=", "<="): ">="}.get(
                 (r["bound"], fem["bound"]), "undetermined")
-    best = min(ratios, key=ratios.get, default=None)
+    best = min((k for k in ratios if k.startswith("EFG")), key=ratios.get, default=None)
     return {"time_to_target": reach, "ratios": ratios, "ratio_bounds": bounds, "best": best}
 
 
-def run_problem(problem: str, quick: bool, repeat: int) -> dict:
+def mlpg_curves(sc, problem: str, quick: bool, repeat: int, ref: float) -> dict:
+    """The MLPG curves of ``problem``: {"MLPG <variant>": points}, refined until 0.01 %."""
+    curves = {}
+    for v in MLPG_VARIANTS:
+        pts = []
+        for h in PROBLEMS[problem]["mlpg"][1 if quick else 0]:
+            try:
+                pts.append(mlpg_point(sc, problem, v, h, ref, repeat))
+            except (ValueError, RuntimeError) as err:  # e.g. a singular moment matrix
+                pts.append({"h": float(h), "failed": f"{type(err).__name__}: {str(err)[:160]}"})
+            if pts[-1].get("error", 1.0) < TARGET / 10:
+                break
+        curves[f"MLPG {v}"] = pts
+    return curves
+
+
+def run_problem(problem: str, quick: bool, repeat: int, only_mlpg: bool = False) -> dict:
     spec = PROBLEMS[problem]
     sc = spec["scene"]()
     q = 1 if quick else 0
@@ -161,7 +201,7 @@ def run_problem(problem: str, quick: bool, repeat: int) -> dict:
     else:
         ref = 1.0  # the prescribed K_I
     curves = {}
-    for v in VARIANTS:
+    for v in (("extrinsic MLS",) if only_mlpg else VARIANTS):
         pts = []
         for h in spec["efg"][q]:
             if v == "full intrinsic" and (2.0 if problem == "singular patch" else W) / h > \
@@ -174,8 +214,10 @@ def run_problem(problem: str, quick: bool, repeat: int) -> dict:
             if pts[-1].get("error", 1.0) < TARGET / 10:  # well past the target: stop refining
                 break
         curves[f"EFG {v}"] = pts
-    for name, sizes in (("FEM P2 graded, quarter-point", spec["graded"][q]),
-                        ("FEM P2 uniform", [(h, None) for h in spec["uniform"][q]])):
+    curves.update(mlpg_curves(sc, problem, quick, repeat, ref))
+    fems = (("FEM P2 graded, quarter-point", spec["graded"][q]),
+            ("FEM P2 uniform", [(h, None) for h in spec["uniform"][q]]))
+    for name, sizes in fems[:1] if only_mlpg else fems:
         pts = []
         for h, th in sizes:
             pts.append(fem_point(sc, problem, h, th, ref, repeat))
@@ -281,14 +323,82 @@ NOTES = [
 ]
 
 
+def mlpg_section(res: dict, cmd: str) -> str:
+    """The MLPG section of docs/performance.md (between its begin/end markers)."""
+    lines = ["<!-- begin:mlpg_work_precision -->",
+             "## MLPG1 work against accuracy (`benchmarks/work_precision.py --mlpg`)", "",
+             f"Command: `{cmd}` ({res['machine']}, {res['date']}; a shared 2-core machine with "
+             "other jobs running: the times drift, the ratios are measured side by side in one "
+             "run). Wall time from the scene to the SIFs (discretisation, assembly, solve, domain "
+             f"integrals), median of up to {res['repeat']} runs (one above 5 s), as in "
+             "[performance_work_precision.md](performance_work_precision.md): singular patch error "
+             "|K_I - 1|, SENT |J / J_ref - 1| with J_ref from a finer graded P2 mesh. MLPG: "
+             "penalty supports in the local weak form, SuperLU; plain = seed 002 (visibility, "
+             "quadratic basis, d_max 2.5), extrinsic MLS with the diffraction rule.", ""]
+    for problem, r in res["problems"].items():
+        lines += [f"### {problem}", "", "| method | size | DOFs | seconds | error |", "|---|---|---|---|---|"]
+        for k, pts in r["curves"].items():
+            for p in pts:
+                size = f"h = {p['h']:.4g}" + (f", tip h = {p['tip_h']:g}" if p.get("tip_h") else "")
+                lines.append(f"| {k} | {size} | {p['n_dofs']} | {p['seconds']:.3f} | {p['error']:.2e} |"
+                             if "error" in p else f"| {k} | {size} | | | failed: {p['failed']} |")
+        lines += ["", "| method | seconds to 0.1 % | ratio to graded P2 |", "|---|---|---|"]
+        for k, t in r["time_to_target"].items():
+            sec = "not reached (best {:.2e})".format(t["best_error"]) if t["seconds"] is None else \
+                f"{'<= ' if t['bound'] == '<=' else ''}{t['seconds']:.3f}"
+            ratio = r["ratios"].get(k)
+            lines.append(f"| {k} | {sec} | {'' if ratio is None else _ratio(ratio, r['ratio_bounds'][k])} |")
+        lines += ["", mlpg_headline(problem, r), ""]
+    lines.append("<!-- end:mlpg_work_precision -->")
+    return "\n".join(lines) + "\n"
+
+
+def mlpg_headline(problem: str, r: dict) -> str:
+    """One sentence per problem: which MLPG variant reaches 0.1 %, at what ratio, or its best error."""
+    parts = []
+    for k, t in r["time_to_target"].items():
+        if not k.startswith("MLPG"):
+            continue
+        errors = [p["error"] for p in r["curves"][k] if "error" in p]
+        if t["seconds"] is None:
+            parts.append(f"{k} does not reach 0.1 % (best {min(errors, default=float('nan')):.2e} "
+                         f"at up to {max(p.get('n_dofs', 0) for p in r['curves'][k])} DOFs)")
+        else:
+            parts.append(f"{k} reaches it, time ratio to graded P2 "
+                         f"{_ratio(r['ratios'][k], r['ratio_bounds'][k])}")
+    k = "EFG extrinsic MLS"
+    tail = "" if k not in r["ratios"] else f" ({k}: {_ratio(r['ratios'][k], r['ratio_bounds'][k])})"
+    return f"**{problem}**: " + "; ".join(parts) + tail + "."
+
+
+def write_section(text: str, path: Path) -> None:
+    """Replace the marked section of ``path`` (or append it)."""
+    old = path.read_text()
+    a, b = "<!-- begin:mlpg_work_precision -->", "<!-- end:mlpg_work_precision -->"
+    if a in old and b in old:
+        new = old[:old.index(a)] + text.rstrip("\n") + old[old.index(b) + len(b):]
+    else:
+        new = old.rstrip("\n") + "\n\n" + text
+    path.write_text(new)
+
+
 def main(argv=None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--no-write", action="store_true", help="do not write docs/ and benchmarks/out/")
+    ap.add_argument("--mlpg", action="store_true",
+                    help="MLPG beside EFG extrinsic MLS and graded P2: the section of docs/performance.md")
     ap.add_argument("--render", action="store_true",
                     help="re-render docs from benchmarks/out/work_precision.json without timing")
     args = ap.parse_args(argv)
+    if args.render and args.mlpg:  # the MLPG section from benchmarks/out/work_precision_mlpg.json
+        res = json.loads((ROOT / "benchmarks" / "out" / "work_precision_mlpg.json").read_text())
+        for r in res["problems"].values():
+            r.update(summarise(r["curves"]))
+        cmd = "python benchmarks/work_precision.py --mlpg" + (" --quick" if res.get("quick") else "")
+        write_section(mlpg_section(res, cmd), ROOT / "docs" / "performance.md")
+        return res
     if args.render:
         res = json.loads((ROOT / "benchmarks" / "out" / "work_precision.json").read_text())
         for r in res["problems"].values():
@@ -303,10 +413,21 @@ def main(argv=None) -> dict:
     for v in VARIANTS:
         efg_point(sc, "singular patch", v, 0.5, 1.0, 1)
     fem_point(sc, "singular patch", 0.5, 0.1, 1.0, 1)
+    if args.mlpg:
+        for v in MLPG_VARIANTS:
+            mlpg_point(sc, "singular patch", v, 0.5, 1.0, 1)
     res = {"machine": f"{platform.machine()}, {platform.python_implementation()} "
                       f"{platform.python_version()}", "date": time.strftime("%Y-%m-%d"),
            "repeat": args.repeat, "target": TARGET,
-           "problems": {p: run_problem(p, args.quick, args.repeat) for p in PROBLEMS}}
+           "problems": {p: run_problem(p, args.quick, args.repeat, args.mlpg) for p in PROBLEMS}}
+    if args.mlpg:
+        cmd = "python benchmarks/work_precision.py --mlpg" + (" --quick" if args.quick else "")
+        text = mlpg_section(res, cmd)
+        print(text)
+        if not args.no_write:
+            write_json(res, ROOT / "benchmarks" / "out" / "work_precision_mlpg.json")
+            write_section(text, ROOT / "docs" / "performance.md")
+        return res
     res["notes"] = NOTES
     cmd = "python benchmarks/work_precision.py" + (" --quick" if args.quick else "")
     if not args.no_write:

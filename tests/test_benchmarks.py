@@ -26,6 +26,7 @@ def test_work_precision_quick_runs_and_reports_every_curve():
     res = mod.main(["--quick", "--repeat", "1", "--no-write"])
     for problem, r in res["problems"].items():
         assert set(r["curves"]) == {f"EFG {v}" for v in mod.VARIANTS} | {
+            f"MLPG {v}" for v in mod.MLPG_VARIANTS} | {
             "FEM P2 graded, quarter-point", "FEM P2 uniform"}, problem
         for pts in r["curves"].values():
             assert all(p["error"] >= 0 and p["seconds"] > 0 for p in pts if "error" in p)
@@ -36,6 +37,40 @@ def test_work_precision_quick_runs_and_reports_every_curve():
         assert r["time_to_target"]["FEM P2 graded, quarter-point"]["seconds"] is not None
     md = mod.markdown(res, "cmd")
     assert "## SENT" in md and "Time to 0.1 % error" in md
+
+
+@pytest.mark.slow
+def test_work_precision_mlpg_quick_runs():
+    spec = importlib.util.spec_from_file_location("bench_wp", BENCH / "work_precision.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    res = mod.main(["--mlpg", "--quick", "--repeat", "1", "--no-write"])
+    for r in res["problems"].values():
+        assert set(r["curves"]) == {"EFG extrinsic MLS", "FEM P2 graded, quarter-point"} | {
+            f"MLPG {v}" for v in mod.MLPG_VARIANTS}
+
+
+def test_work_precision_mlpg_section(tmp_path):
+    spec = importlib.util.spec_from_file_location("bench_wp", BENCH / "work_precision.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    pt = {"h": 1.0, "n_dofs": 10, "seconds": 1.0, "error": 1e-2}
+    curves = {"EFG extrinsic MLS": [{**pt, "error": 1e-4}],
+              "MLPG extrinsic MLS": [{**pt, "seconds": 2.0}, {**pt, "seconds": 8.0, "error": 1e-4}],
+              "FEM P2 graded, quarter-point": [pt, {**pt, "seconds": 4.0, "error": 1e-4}]}
+    r = mod.summarise(curves)
+    res = {"machine": "m", "date": "d", "repeat": 1, "problems": {"SENT": {"curves": curves, **r}}}
+    text = mod.mlpg_section(res, "cmd")
+    assert text.startswith("<!-- begin:mlpg_work_precision -->") and "| MLPG extrinsic MLS | h = 1 |" in text
+    # 0.1 % lies midway (log-log) between 1e-2 and 1e-4: MLPG 4 s, graded P2 2 s
+    assert "MLPG extrinsic MLS reaches it, time ratio to graded P2 = 2.00" in text
+    page = tmp_path / "performance.md"
+    a, b = "<!-- begin:mlpg_work_precision -->", "<!-- end:mlpg_work_precision -->"
+    page.write_text(f"intro\n{a}\nold\n{b}\ntail\n")
+    mod.write_section(text, page)
+    new = page.read_text()
+    assert new.startswith("intro\n") and new.endswith("tail\n") and "old" not in new
+    assert new.count("<!-- begin:mlpg_work_precision -->") == 1
 
 
 def test_time_to_target_interpolates_in_log_log():

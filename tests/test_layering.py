@@ -17,8 +17,8 @@ STAGES = [
     ("nodes", "search", "quadrature", "fracture"),              # points; fields -> K, J
     ("approx",),                                                # shape functions
     ("system",),                                                # K, f, M; constraints; solvers
-    ("methods.discretize", "methods.local", "methods.boundary",  # scene + method -> discrete
-     "methods.size", "methods.crack_choices"),
+    ("methods.discretize", "methods.local", "methods.local_nodes", "methods.local_size",
+     "methods.boundary", "methods.size", "methods.crack_choices"),  # scene + method -> discrete
     ("io", "plot"),                                             # files and figures of results
     ("solution", "meshless_solution"),                          # the result contract
     ("static", "explicit", "fem", "loadcases"),                 # drivers and the FE reference

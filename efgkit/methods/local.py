@@ -31,7 +31,7 @@ from scipy.sparse import coo_array, csr_array, diags_array, hstack, vstack
 
 from ..approx.shape import Shape
 from ..approx.test_functions import disc_test_functions
-from ..nodes import generate_nodes
+from ..nodes import check_memory
 from ..problem.crack import FACE_OFFSET
 from ..problem.scene import Scene, evaluate_component, evaluate_vector
 from ..quadrature.boundary import boundary_points
@@ -49,6 +49,8 @@ from .discretize import (
     interpolating_supports,
     shadow_rays,
 )
+from .local_nodes import local_nodes
+from .local_size import local_size_estimate
 from .mlpg import MLPG
 
 __all__ = ["LocalBoundary", "discretize_local", "local_loads", "local_system", "DEFAULT_MLPG_PENALTY"]
@@ -112,6 +114,13 @@ def discretize_local(scene: Scene, method: MLPG) -> Discretization:
     >>> d = discretize_local(scene, MLPG(spacing=0.25, quadrature="midpoint"))  # seed 002's 5 x 8
     >>> d.nodes.n, d.points.n, int(d.test.neighbours.idx.shape[1])   # 25 discs of 40 points
     (25, 1000, 1)
+
+    Raises
+    ------
+    ValueError
+        Before allocating anything, when the discretisation and its solve would need more
+        memory than the machine has (:func:`~efgkit.methods.local_size.local_size_estimate`,
+        :func:`~efgkit.nodes.check_memory`), and for a linear basis on a cracked scene.
     """
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a Scene, got {type(scene).__name__}")
@@ -126,9 +135,18 @@ def discretize_local(scene: Scene, method: MLPG) -> Discretization:
             "the shear edge crack of seed 003 (spacings 0.3-0.5), with or without enrichment; "
             "the linear basis is also ~25 % too stiff in bending (docs/theory.md, MLPG1). Use "
             "basis='quadratic' with d_max >= 3, or the EFG method")
+    est = local_size_estimate(scene, method)
+    check_memory(est.bytes, f"MLPG with {max(est.point_parts, key=est.point_parts.get)} would give "
+                 f"about {est.nodes:.2g} nodes and {est.points:.2g} quadrature points (test discs, "
+                 f"boundary pieces, field cells) with up to {est.width} neighbours each; it needs "
+                 f"{est.shape_bytes / 1e9:.3g} GB for the shape functions and "
+                 f"{est.solve_bytes / 1e9:.3g} GB for the stiffness and the solve",
+                 "Remedy: a discretisation about {factor:.2g} times coarser (spacing, zone "
+                 "spacings) would fit; refine only near tips (zones), or lower d_max, radial, "
+                 "angular or cut_angular.")
     timings = {}
     t0 = time.perf_counter()
-    nodes = generate_nodes(scene.domain, method, scene.cracks)
+    nodes = local_nodes(scene.domain, method, scene.cracks)
     r_s = disc_radii(nodes, method)
     interpolate = None
     if method.bc == "modified_mls":
