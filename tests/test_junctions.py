@@ -113,3 +113,12 @@ def test_advance_runs_on_to_a_crack_within_snap_and_refuses_its_own():
     hook = Crack([[0.5, 1.0], [1.0, 1.0], [1.0, 1.4], [0.8, 1.4]], name="h")
     adv = advance(plate((hook,)), {"h:1": (0.5, np.pi / 2)})  # turns down onto its own face
     assert adv.scene is None and adv.stop.startswith("tip h:1 runs into its own crack at [0.8, 1.0]")
+
+
+def test_the_fe_reference_refuses_a_junction():
+    from efgkit import FEM
+    from efgkit.fem.model import solve_fem
+
+    with pytest.raises(ValueError, match=r"crack 'a' ends on another crack's face at \[1.0, 1.2\] "
+                       r"\(a junction\): the FE reference does not open"):
+        solve_fem(plate((T_EDGE, FREE)), FEM(h=0.2))

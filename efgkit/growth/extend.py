@@ -8,9 +8,10 @@ other behind the tip"; Sect. 6.5) joins that crack: the new segment is cut where
 the face, and its end becomes a junction (not a tip; :mod:`efgkit.problem.junctions`). An
 increment that would end within ``snap da`` of the boundary runs on to it; one that would
 end within ``JOIN_SNAP da`` of another crack's face joins it (smaller: cracks that pass
-close by, as in seed 003 Sect. 6.1 at 15 and 5 degrees, must not be pulled together). Other tips go on growing; the loop stops only
-when the cracks cut a piece off the body (:func:`~efgkit.problem.junctions.split_by_cracks`,
-a rigid-body mode) or a tip runs into its own crack.
+close by, as in seed 003 Sect. 6.1 at 15 and 5 degrees, must not be pulled together).
+Other tips go on growing; the loop stops only when the cracks cut a piece off the body
+(:func:`~efgkit.problem.junctions.split_by_cracks`, a rigid-body mode) or a tip runs into
+its own crack.
 """
 
 from __future__ import annotations
