@@ -122,3 +122,18 @@ def test_the_fe_reference_refuses_a_junction():
     with pytest.raises(ValueError, match=r"crack 'a' ends on another crack's face at \[1.0, 1.2\] "
                        r"\(a junction\): the FE reference does not open"):
         solve_fem(plate((T_EDGE, FREE)), FEM(h=0.2))
+
+
+def test_a_crack_from_hole_to_hole_leaves_the_other_tips_growing():
+    holes = [Loop.circle([0.5, 1.0], 0.2, "h0"), Loop.circle([1.5, 1.0], 0.2, "h1")]
+    poly, _ = holes[0].polyline()
+    x0 = poly[np.argmax(poly[:, 0])]  # a vertex of the polyline: on the boundary exactly
+    a = Crack([x0.tolist(), [1.1, 1.0]], tips=(False, True), name="a")
+    other = Crack([[1.0, 0.3], [1.2, 0.3]], name="o")
+    adv = advance(plate((a, other), holes), {"a:1": (0.15, 0.0), "o:1": (0.1, 0.0)})
+    assert adv.stop is None and adv.joined == ("a:1",)
+    assert adv.scene.cracks[0].tips == (False, False)  # hole to hole: the body is one piece
+    assert [t.id for t in adv.scene.tips] == ["o:0", "o:1"]
+    back = Crack([[1.5, 0.8], [1.5, 0.5], [0.5, 0.5], [0.5, 0.8]], tips=(False, False), name="k")
+    with pytest.raises(ValueError, match="cut the body into separate pieces"):
+        adv.scene.with_cracks(adv.scene.cracks + (back,))
