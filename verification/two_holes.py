@@ -45,7 +45,8 @@ tip) would be a junction, which the loop now supports (the tip joins that crack;
 tests/test_junctions.py), but it is not reached here; at 15 and 5 degrees with da =
 0.25 mm (h = 0.25 mm, not in the record) the run ends earlier on a singular moment matrix
 at (0.59, 0.03) mm, where the passing paths come close (0.03 mm apart at da = 0.5 mm): too
-few nodes see the points of the sliver between them. Quick mode: alpha = beta = 45, h = 0.5 mm, da = 0.5 mm, two increments.
+few nodes see the points of the sliver between them. Quick mode: alpha = beta = 45,
+h = 0.5 mm, da = 0.5 mm, two increments.
 """
 
 from __future__ import annotations
