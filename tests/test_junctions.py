@@ -110,6 +110,10 @@ def test_advance_runs_on_to_a_crack_within_snap_and_refuses_its_own():
     across = advance(plate((a2, b2)), {"a:1": (0.4, 0.0)})
     assert across.joined == ()
     np.testing.assert_allclose(across.scene.cracks[0].vertices[-1], [1.8, 1.0], atol=1e-12)
+    touching = Crack([[0.5, 1.0], [1.0 - 1e-9, 1.0]], name="a")  # 1e-9 from b: no sliver segment
+    on = advance(plate((touching, b)), {"a:1": (0.1, 0.0)})
+    assert on.joined == ("a:1",) and len(on.scene.cracks[0].vertices) == 2
+    np.testing.assert_array_equal(on.scene.cracks[0].vertices[-1], [1.0, 1.0])
     hook = Crack([[0.5, 1.0], [1.0, 1.0], [1.0, 1.4], [0.8, 1.4]], name="h")
     adv = advance(plate((hook,)), {"h:1": (0.5, np.pi / 2)})  # turns down onto its own face
     assert adv.scene is None and adv.stop.startswith("tip h:1 runs into its own crack at [0.8, 1.0]")

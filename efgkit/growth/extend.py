@@ -120,7 +120,11 @@ def advance(scene, moves: dict, snap: float = 0.5) -> Advance:
                 seg, t, _ = cracks[j].project(v[None])
                 a_, b_ = cracks[j].segments[seg[0]]
                 v = a_ + t[0] * (b_ - a_)
-            verts = np.vstack([new.vertices, v]) if tip.end == 1 else np.vstack([v, new.vertices])
+            if s_end <= 1e-6 * da:  # the tip is at the face already: move it there, no new segment
+                verts = new.vertices.copy()
+                verts[-1 if tip.end == 1 else 0] = v
+            else:
+                verts = np.vstack([new.vertices, v]) if tip.end == 1 else np.vstack([v, new.vertices])
             tips = list(new.tips)
             tips[tip.end] = False
             new = replace(new, vertices=verts, tips=tuple(tips))
