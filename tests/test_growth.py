@@ -26,7 +26,8 @@ def test_efg_edge_crack_runs_through_the_plate():
     edge = Crack([[0.0, 1.0], [1.15, 1.0]], tips=(False, True), name="c")
     steps = list(grow(plate((edge,)), EFG(spacing=0.2), Growth(da=0.45, max_steps=10)))
     assert [s.index for s in steps] == [0, 1]
-    assert "cuts the body through" in steps[-1].stop and "c:1" in steps[-1].stop
+    assert steps[-1].stop.startswith("the cracks 'c' cut the body into separate pieces (tip c:1 "
+                                     "reached the boundary at [2.0, ")
     # each step grew the tip by da along its kink angle
     for s0, s1 in zip(steps[:-1], steps[1:], strict=True):
         t0, t1 = s0.tips[0].tip, s1.tips[0].tip
@@ -51,11 +52,12 @@ def test_tip_joins_the_boundary_and_the_other_grows_on():
     assert steps[-1].stop == "maximum number of steps (2) reached"
 
 
-def test_advance_refuses_joining_cracks():
+def test_advance_joins_cracks():  # more in test_junctions.py
     a = Crack([[0.5, 1.0], [0.9, 1.0]], name="a")
     b = Crack([[1.0, 0.5], [1.0, 1.5]], name="b")
     adv = advance(plate((a, b)), {"a:1": (0.3, 0.0)})
-    assert adv.scene is None and "tip a:1 reaches a crack" in adv.stop
+    assert adv.joined == ("a:1",) and adv.events[0].startswith("tip a:1 joined crack 'b' at [1.0, 1.0]")
+    assert adv.scene.cracks[0].tips == (True, False)
 
 
 def test_restart_reaches_the_same_result(tmp_path):

@@ -56,6 +56,11 @@ def scene_pslg(domain, cracks, h):
                 j = int(np.argmin(d))
                 if best is None or d[j] < best[0]:
                     best = (d[j], li, j, s[j])
+            if best[0] > 1e-9 * scale:
+                raise ValueError(
+                    f"crack {c.name!r} ends on another crack's face at {m.tolist()} (a junction): "
+                    "the FE reference does not open a node shared by three faces; solve this "
+                    "scene with EFG")
             _, li, j, s = best
             p, own = loops[li]
             if s < 1e-9 or s > 1 - 1e-9:

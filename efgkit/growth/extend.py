@@ -2,9 +2,16 @@
 
 Growing a crack is adding a segment at its tip (seed 003 Sect. 2, Fig. 2). A tip whose
 increment reaches the boundary (an outer edge or a hole) stops there: its end becomes a
-mouth and the tip is no longer active (the crack joins the boundary). A tip whose
-increment reaches another crack stops the loop: crossing and branching cracks are not
-supported by :class:`~efgkit.problem.scene.Scene`.
+mouth and the tip is no longer active (the crack joins the boundary). A tip whose increment
+reaches another crack's face (seed 003 Sect. 6.1: cracks that "curve around and meet each
+other behind the tip"; Sect. 6.5) joins that crack: the new segment is cut where it meets
+the face, and its end becomes a junction (not a tip; :mod:`efgkit.problem.junctions`). An
+increment that would end within ``snap da`` of the boundary runs on to it; one that would
+end within ``JOIN_SNAP da`` of another crack's face joins it (smaller: cracks that pass
+close by, as in seed 003 Sect. 6.1 at 15 and 5 degrees, must not be pulled together).
+Other tips go on growing; the loop stops only when the cracks cut a piece off the body
+(:func:`~efgkit.problem.junctions.split_by_cracks`, a rigid-body mode) or a tip runs into
+its own crack.
 """
 
 from __future__ import annotations
@@ -14,7 +21,11 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-__all__ = ["Advance", "advance", "ray_hits"]
+from ..problem.junctions import split_by_cracks
+
+__all__ = ["JOIN_SNAP", "Advance", "advance", "ray_hits"]
+
+JOIN_SNAP = 0.1  # an increment ending within this fraction of da of another crack joins it
 
 
 def ray_hits(origin: np.ndarray, direction: np.ndarray, segments: np.ndarray) -> np.ndarray:
@@ -45,9 +56,9 @@ class Advance:
     events : tuple of str
         What happened to tips (joined the boundary), for the event log.
     joined : tuple of str
-        Ids of the tips that reached the boundary in this increment.
+        Ids of the tips that reached the boundary or another crack in this increment.
     stop : str or None
-        Why the loop cannot go on (a crack cut the body through, cracks meet).
+        Why the loop cannot go on (the cracks cut a piece off, a crack runs into itself).
     """
 
     scene: object
@@ -66,7 +77,8 @@ def advance(scene, moves: dict, snap: float = 0.5) -> Advance:
         Increment length (> 0) and kink angle (radians, tip frame) per tip id; tips not
         listed stay.
     snap : float
-        An increment that would end within ``snap * da`` of the boundary runs on to it.
+        An increment that would end within ``snap * da`` of the boundary runs on to it
+        (within ``JOIN_SNAP * da`` of another crack: it joins that crack).
 
     Returns
     -------
@@ -82,31 +94,49 @@ def advance(scene, moves: dict, snap: float = 0.5) -> Advance:
                 continue
             da, angle = moves[tip.id]
             d = np.array([math.cos(tip.angle + angle), math.sin(tip.angle + angle)])
-            others = [s for j, o in enumerate(cracks) if j != k for s in o.segments]
             own = new.segments[:-1] if tip.end == 1 else new.segments[1:]
             reach = da * (1.0 + snap)
             s_b = ray_hits(tip.x, d, bnd).min(initial=np.inf)
-            s_c = ray_hits(tip.x, d, np.array(others + list(own)).reshape(-1, 2, 2)).min(initial=np.inf)
-            if s_c <= min(s_b, da) + 1e-12 * da:
-                hit = tip.x + s_c * d
-                return Advance(None, tuple(events), tuple(joined),
-                               f"tip {tip.id} reaches a crack at {np.round(hit, 12).tolist()}: "
-                               "joining or crossing cracks is not supported")
-            if s_b <= reach:
-                v = tip.x + s_b * d
-                verts = (np.vstack([new.vertices, v]) if tip.end == 1 else np.vstack([v, new.vertices]))
-                tips = list(new.tips)
-                tips[tip.end] = False
-                if not any(tips):
+            s_own = ray_hits(tip.x, d, own).min(initial=np.inf)
+            hits = [(ray_hits(tip.x, d, o.segments).min(initial=np.inf), j)
+                    for j, o in enumerate(cracks) if j != k]
+            s_c, j = min(hits, default=(np.inf, -1))
+            first = min(s_own, s_c)  # a crack in the way comes before the boundary snap
+            if first < s_b and first <= da * (1.0 + JOIN_SNAP):
+                if s_own <= s_c:
+                    hit = tip.x + s_own * d
                     return Advance(None, tuple(events), tuple(joined),
-                                   f"crack {c.name!r} cuts the body through: tip {tip.id} reaches "
-                                   f"the boundary at {np.round(v, 12).tolist()} and the crack's "
-                                   "other end is on the boundary too")
-                new = replace(new, vertices=verts, tips=tuple(tips))
-                events.append(f"tip {tip.id} reached the boundary at {np.round(v, 12).tolist()} "
-                              f"(after {s_b:.6g}); it is a mouth now")
-                joined.append(tip.id)
+                                   f"tip {tip.id} runs into its own crack at "
+                                   f"{np.round(hit, 12).tolist()}: a crack closing on itself is "
+                                   "not supported")
+                s_end, onto = s_c, True
+            elif s_b <= reach and s_b < first:
+                s_end, onto = s_b, False
             else:
                 new = new.extended(float(da), float(angle), end=tip.end)
+                continue
+            v = tip.x + s_end * d
+            if onto:  # onto the face of crack j: exactly on its segment
+                seg, t, _ = cracks[j].project(v[None])
+                a_, b_ = cracks[j].segments[seg[0]]
+                v = a_ + t[0] * (b_ - a_)
+            if s_end <= 1e-6 * da:  # the tip is at the face already: move it there, no new segment
+                verts = new.vertices.copy()
+                verts[-1 if tip.end == 1 else 0] = v
+            else:
+                verts = np.vstack([new.vertices, v]) if tip.end == 1 else np.vstack([v, new.vertices])
+            tips = list(new.tips)
+            tips[tip.end] = False
+            new = replace(new, vertices=verts, tips=tuple(tips))
+            where = f"joined crack {cracks[j].name!r}" if onto else "reached the boundary"
+            events.append(f"tip {tip.id} {where} at {np.round(v, 12).tolist()} (after "
+                          f"{s_end:.6g}); it is {'a junction' if onto else 'a mouth'} now")
+            joined.append(tip.id)
         cracks[k] = new
+    cut = split_by_cracks(cracks, scene.domain)
+    if cut is not None:
+        return Advance(None, tuple(events), tuple(joined),
+                       f"the cracks {', '.join(repr(n) for n in cut)} cut the body into "
+                       f"separate pieces ({'; '.join(events)}): a piece cut off moves as a "
+                       "rigid body, the loop ends before it")
     return Advance(scene.with_cracks(cracks), tuple(events), tuple(joined))

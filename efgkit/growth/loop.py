@@ -74,7 +74,8 @@ class GrowthStep:
     da : dict str -> float
         The increment each tip takes after this step (empty at a stop).
     events : tuple of str
-        What happened in the increment into this step (tips that joined the boundary).
+        What happened in the increment into this step (tips that joined the boundary or
+        another crack: "tip a:1 joined crack 'b' at [x, y] ...").
     stop : str or None
         Why the loop ends after this step, None while it goes on.
     seconds : dict str -> float
@@ -231,8 +232,12 @@ def grow(scene: Scene, method, settings: Growth, start: GrowthState | None = Non
     ------
     GrowthStep, one per solve; the last has ``stop`` set. Stops: the maximum number of
     steps or crack length, every tip closed or at or below ``K_threshold`` (Paris: below
-    ``dK_th``), a falling load factor (``stop_unstable`` with K_Ic), a crack that cuts
-    the body through or reaches another crack, every tip joined to the boundary.
+    ``dK_th``), a falling load factor (``stop_unstable`` with K_Ic), cracks that cut a
+    piece off the body (:func:`~efgkit.problem.junctions.split_by_cracks`), a crack
+    running into itself, every tip joined to the boundary or to another crack. A tip that
+    joins the boundary or another crack stops alone (an event of the next step; its
+    increment is cut where it meets the boundary or the other crack's face); the others
+    grow on.
 
     Examples
     --------
@@ -295,7 +300,7 @@ def grow(scene: Scene, method, settings: Growth, start: GrowthState | None = Non
                           settings.snap)
             stop = adv.stop
             if adv.scene is not None and not adv.scene.tips:
-                stop = "every tip has joined the boundary"
+                stop = "every tip has joined the boundary or another crack"
             nxt = adv
         state = None
         if stop is None:

@@ -101,9 +101,11 @@ class Crack:
     vertices : array_like (n, 2)
     tips : (bool, bool)
         Which of the two ends (first vertex, last vertex) are tips; an end
-        that is not a tip must lie on the domain boundary (checked by
+        that is not a tip must lie on the domain boundary or on another crack's
+        face (a junction, :mod:`efgkit.problem.junctions`; checked by
         :class:`~efgkit.problem.scene.Scene`). ``(False, True)``: an edge crack
-        growing from its last vertex.
+        growing from its last vertex; ``(False, False)``: a crack run through
+        (from a hole to another hole, say) with no tip left.
     name : str
         Unique within a scene; names the crack in errors and results.
     pressure : float
@@ -114,7 +116,7 @@ class Crack:
     ValueError
         Zero-length segments (duplicate consecutive vertices), a polyline that
         crosses or touches itself (including a segment that doubles back),
-        a crack with no tip, non-finite vertices, coordinates beyond
+        non-finite vertices, coordinates beyond
         :data:`~efgkit.problem.geometry.COORDINATE_LIMIT` (1e150) or spanning less
         than its inverse (their squares overflow or underflow).
 
@@ -152,9 +154,6 @@ class Crack:
         tips = tuple(bool(t) for t in self.tips)
         if len(tips) != 2:
             raise ValueError(f"crack {self.name!r}: tips must be two booleans, got {self.tips!r}")
-        if not any(tips):
-            raise ValueError(f"crack {self.name!r}: no tip (tips = (False, False)); a crack "
-                             "needs at least one free end inside the body")
         if isinstance(self.pressure, bool) or not isinstance(self.pressure, (int, float, np.number)) \
                 or not math.isfinite(self.pressure):
             raise ValueError(f"crack {self.name!r}: pressure must be a finite number, got "

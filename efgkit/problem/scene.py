@@ -18,6 +18,7 @@ from .crack import Crack
 from .exact.fields import Field
 from .geometry import COORDINATE_LIMIT, Domain
 from .graded import Grading
+from .junctions import split_by_cracks
 from .material import Elastic
 from .supports import PointSupport, Pressure
 from .symmetry import Symmetry, full_domain
@@ -227,7 +228,8 @@ def _check_points(points, domain: Domain) -> None:
 
 
 def _check_cracks(cracks, domain: Domain) -> None:
-    """Cracks lie in the body: tips inside, mouths on the boundary, no crossings."""
+    """Cracks lie in the body: tips inside, mouths on the boundary or on another crack (a
+    junction), no crossings, no piece cut off (:func:`~efgkit.problem.junctions.split_by_cracks`)."""
     from .geometry import segments_intersect
 
     names = set()
@@ -251,11 +253,11 @@ def _check_cracks(cracks, domain: Domain) -> None:
         for k, (d, ins) in enumerate(zip(dist, inside, strict=True)):
             end = 0 if k == 0 else 1 if k == len(v) - 1 else None
             if end is not None and not c.tips[end]:
-                if d > tol:
+                if d > tol and not _on_other_crack(v[k], c, cracks, tol):
                     raise ValueError(
                         f"crack {c.name!r}: vertex {k} {v[k].tolist()} is a mouth (tips[{end}] is "
-                        f"False) but lies {d:.3g} from the domain boundary; put it on the "
-                        "boundary or make it a tip")
+                        f"False) but lies {d:.3g} from the domain boundary and on no other "
+                        "crack; put it on the boundary or on another crack's face, or make it a tip")
                 continue
             what = "tip" if end is not None else "vertex"
             if not ins or d <= tol:
@@ -276,14 +278,39 @@ def _check_cracks(cracks, domain: Domain) -> None:
                 raise ValueError(
                     f"crack {c.name!r}: segment {k} (vertices {k}-{k + 1}) crosses the domain boundary "
                     f"near {bnd[np.argmax(hit), 0].tolist()}; cracks must run inside the body")
-    segs = [(c.name, k, s) for c in cracks for k, s in enumerate(c.segments)]
+    # a junction (an end that is not a tip, on another crack) touches that crack at its end
+    # only: its segment is tested without its last 1e-7 of length, as at a mouth
+    segs = [(c.name, k, s) for c in cracks for k, s in enumerate(_trimmed_segments(c, domain, tol))]
     for i in range(len(segs)):
         for j in range(i + 1, len(segs)):
             (n1, k1, s1), (n2, k2, s2) = segs[i], segs[j]
             if n1 != n2 and segments_intersect(s1[None, 0], s1[None, 1], s2[None, 0], s2[None, 1])[0]:
                 raise ValueError(
                     f"cracks {n1!r} (segment {k1}) and {n2!r} (segment {k2}) intersect; "
-                    "crossing or branching cracks are not supported")
+                    "crossing or branching cracks are not supported (a crack may end on another "
+                    "crack's face: make that end a mouth, tips False)")
+    cut = split_by_cracks(cracks, domain, tol)
+    if cut is not None:
+        raise ValueError(
+            f"cracks {', '.join(repr(n) for n in cut)} cut the body into separate pieces (their "
+            "ends that are not tips join the boundary and each other in a closed curve): a piece "
+            "cut off moves as a rigid body and the stiffness matrix is singular; model the "
+            "pieces as separate scenes, or make an end a tip")
+
+
+def _on_other_crack(x, crack: Crack, cracks, tol: float) -> bool:
+    """Whether the point ``x (2,)`` lies within ``tol`` of a crack other than ``crack``."""
+    return any(o.name != crack.name and o.distance(x[None])[0] <= tol for o in cracks)
+
+
+def _trimmed_segments(c: Crack, domain: Domain, tol: float) -> np.ndarray:
+    """The segments of ``c`` (m, 2, 2), the first and last shortened by 1e-7 of their length
+    at an end that is not a tip and lies off the boundary (a junction on another crack)."""
+    s = c.segments.copy()
+    for end, k, j in ((0, 0, 0), (1, -1, 1)):
+        if not c.tips[end] and domain.distance_to_boundary(c.vertices[[0, -1][end]])[0] > tol:
+            s[k, j] = s[k, j] + 1e-7 * (s[k, 1 - j] - s[k, j])
+    return s
 
 
 def _check_scales(scene: Scene) -> None:
