@@ -115,6 +115,11 @@ class Solution(ABC):
         """Stress (xx, yy, xy) at points ``x (n, 2)``, shape (n, 3): ``D eps``."""
         return self.strain(x) @ self.scene.material.D.T
 
+    def displacement_stress(self, x) -> tuple[np.ndarray, np.ndarray]:
+        """``(displacement (n, 2), stress (n, 3))`` at points ``x (n, 2)``; methods whose
+        fields come from one evaluation at the points (EFG: the shape functions) do it once."""
+        return self.displacement(x), self.stress(x)
+
     @abstractmethod
     def strain_energy(self) -> float:
         """U = 1/2 int eps : sigma dOmega over the body."""

@@ -52,6 +52,17 @@ def _summary(rep: dict) -> str:
     return "\n".join(lines)
 
 
+def _has_table(path: Path, key: str) -> bool:
+    """Whether the TOML file ``path`` (read by load_study already) has a top-level ``key``."""
+    try:
+        import tomllib
+    except ModuleNotFoundError:  # pragma: no cover - Python 3.10
+        import tomli as tomllib
+
+    with open(path, "rb") as f:
+        return key in tomllib.load(f)
+
+
 def _write_outputs(sol, out: Path, name: str, samples: int, sw, tips=()) -> list[Path]:
     """Fields (VTU), the discretisation (node cloud VTU) and the figures (PNG: nodes, stress
     and, with crack tips, K against the J-domain radius); adds their timings."""
@@ -99,10 +110,12 @@ def cmd_run(args) -> int:
         from .cases import run_cases
 
         return run_cases(args, path, scene, method, cases, out, name)
-    from ..growth.command import growth_table
-
     with stage(f"{path}: cannot grow the cracks", f"{path}: the growth loop failed"):
-        table = growth_table(path)  # [growth]: the step loop (efgkit.growth)
+        table = None
+        if _has_table(path, "growth"):  # efgkit.growth (and what it needs) only when asked for
+            from ..growth.command import growth_table
+
+            table = growth_table(path)  # [growth]: the step loop (efgkit.growth)
         if table is not None:
             from ..growth.command import run_table, summary
 
