@@ -14,6 +14,8 @@ from .errors import FAILED, CLIError, check_out, message, stage
 
 __all__ = ["cmd_run"]
 
+FIGURE_DPI = 100  # the figures of `efgkit run` (cold start: 150 dpi took 0.3 s more)
+
 
 def _num(v, fmt: str) -> str:
     """``v`` formatted, or "n/a" where the report holds None (a non-finite value)."""
@@ -76,8 +78,8 @@ def _write_outputs(sol, out: Path, name: str, samples: int, sw, tips=()) -> list
                ("stress", lambda: sol.plot_stress(n_target=samples))]
     if tips:
         figures.append(("sif", lambda: plot_domain_dependence(tips)))
-    for suffix, draw in figures:
-        outputs.append(write_figure(draw(), out / f"{name}_{suffix}.png"))
+    for suffix, draw in figures:  # 100 dpi: legible, a third less to rasterise than 150
+        outputs.append(write_figure(draw(), out / f"{name}_{suffix}.png", dpi=FIGURE_DPI))
     sw.lap("figures")
     return outputs
 
