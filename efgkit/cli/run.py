@@ -31,7 +31,11 @@ def _summary(rep: dict) -> str:
         f"nodes     {rep['n_nodes']} ({rep['n_boundary_nodes']} on the boundary), "
         f"{rep['n_dofs']} dofs",
         f"solver    {solver.get('solver', '?')}"
-        + (f", residual {res:.2e}" if isinstance(res, float) else ""),
+        + (f", residual {res:.2e}" if isinstance(res, float) else "")
+        + (f", {solver['iterations']} CG iterations" if solver.get("iterations") is not None
+           and solver.get("solver") == "amg" else "")
+        + (f" in {solver['uzawa_steps']} Uzawa steps" if solver.get("uzawa_steps") else "")
+        + (f" (fell back to SuperLU: {solver['fallback']})" if solver.get("fallback") else ""),
         f"energy    {_num(rep['energy'], '.6e')}",
     ]
     if rep["errors"] is not None:
