@@ -150,7 +150,13 @@ def markdown(res: dict, cmd: str) -> str:
     if ref:
         lines += ["", "SuperLU references (s, " + what + "): " + ", ".join(
             f"{bc} {v['seconds']:.1f} s, {v[key]:.6g}" for bc, v in ref.items()) + "."]
-    lines += [f"<!-- end:{tag} -->", ""]
+    lines += ["", "What the default does with it: `bc=\"auto\"` on a scene with crack tips takes Nitsche "
+              "(`variational`) instead of Lagrange multipliers where CG solves (more than "
+              "`AUTO_AMG_THRESHOLD` unknowns; `efgkit.static.large_system_bc`): as consistent as the "
+              "multipliers, one SPD solve instead of Uzawa steps. The penalty method stays the choice "
+              "without tips only: its K error reaches 13 times the multipliers' (docs/verification.md, "
+              "`defaults`), and its energy here differs more from the constrained answer.",
+              f"<!-- end:{tag} -->", ""]
     return "\n".join(lines)
 
 
