@@ -155,7 +155,7 @@ def markdown(res: dict, cmd: str) -> str:
               "`AUTO_AMG_THRESHOLD` unknowns; `efgkit.static.large_system_bc`): as consistent as the "
               "multipliers, one SPD solve instead of Uzawa steps. The penalty method stays the choice "
               "without tips only: its K error reaches 13 times the multipliers' (docs/verification.md, "
-              "`defaults`), and its energy here differs more from the constrained answer.",
+              "`defaults`).",
               f"<!-- end:{tag} -->", ""]
     return "\n".join(lines)
 
