@@ -57,3 +57,15 @@ def test_vtu_refuses_bad_arrays(tmp_path, points, cells, data, err, match):
     with pytest.raises(err, match=match):
         write_unstructured(tmp_path / "bad.vtu", points, cells, VTK_TRIANGLE, data)
     assert not (tmp_path / "bad.vtu").exists()
+
+
+def test_public_names_resolve_on_first_use():
+    """`efgkit` imports its public names when first used (PEP 562): each of __all__ resolves
+    to the object of its module, and an unknown name is an AttributeError."""
+    code = ("import efgkit, sys; objs = {n: getattr(efgkit, n) for n in efgkit.__all__}; "
+            "from efgkit.static import solve; from efgkit.fem import FEM; "
+            "assert objs['solve'] is solve and objs['FEM'] is FEM and efgkit.fem.FEM is FEM; "
+            "print(hasattr(efgkit, 'no_such_name'))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                         cwd=ROOT)
+    assert out.stdout.strip() == "False"
