@@ -57,11 +57,19 @@ def markdown(res: dict, cmd: str) -> str:
                      f"{m['compile_s']:.1f} | {m['total_s']:.1f} |")
     warm = res["runs"]["warm"][0]["timings"]
     lines += ["", "Stages of a warm run of this branch (s): "
-              + ", ".join(f"{k} {v:.2f}" for k, v in warm.items() if k != "total") + ".",
+              + ", ".join(f"{k} {v:.2f}" for k, v in warm.items() if k != "total") + "; "
+              "interpreter start and imports (wall - run's total, medians): "
+              + ", ".join(f"{kind} {m['wall_s'] - m['total_s']:.1f} s" for kind, m in
+                          res["median"].items()) + ".",
+              "", "The environment sets PYTHONDONTWRITEBYTECODE="
+              f"{res.get('dont_write_bytecode') or '(unset)'}"
+              + (": every run compiles efgkit's sources again (a normal install keeps their "
+                 "bytecode), so cold and warm differ only by numba's cache."
+                 if res.get("dont_write_bytecode") else "."),
               "", "Target: the cold run <= 10 s. Below `efgkit.jit.COMPILED_MIN` = 5e4 quadrature "
               "points (the example has 36k) the MLS, stiffness and search run in numpy and "
-              "nothing is compiled; larger problems compile their kernels once (stage "
-              "\"compile\").", "<!-- end:cold_start -->", ""]
+              "nothing is compiled (numba is not even imported); larger problems compile their "
+              "kernels once (stage \"compile\").", "<!-- end:cold_start -->", ""]
     return "\n".join(lines)
 
 
@@ -88,12 +96,13 @@ def main(argv=None) -> dict:
            for kind, rs in runs.items()}
     res = {"machine": f"{platform.machine()}, {platform.python_implementation()} "
                       f"{platform.python_version()}", "date": time.strftime("%Y-%m-%d"),
-           "scene": args.scene, "rounds": args.rounds, "runs": runs, "median": med}
+           "scene": args.scene, "rounds": args.rounds, "runs": runs, "median": med,
+           "dont_write_bytecode": os.environ.get("PYTHONDONTWRITEBYTECODE")}
     if not args.no_write:
         sys.path.insert(0, str(ROOT / "benchmarks"))
         from search import write_section
 
-        cmd = "PYTHONPATH=. python benchmarks/cold_start.py" + (
+        cmd = f"PYTHONPATH=. python benchmarks/cold_start.py --rounds {args.rounds}" + (
             f" --before {args.before}" if args.before else "")
         write_section(markdown(res, cmd), ROOT / "docs" / "performance.md")
         write_json(res, ROOT / "benchmarks" / "out" / "cold_start.json")

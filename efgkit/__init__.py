@@ -1,21 +1,48 @@
 """efgkit: meshless Galerkin (EFG, MLPG) fracture mechanics in 2D linear elasticity."""
 
+from importlib import import_module
 from importlib.metadata import PackageNotFoundError, version
 
-from .explicit import DynamicSolution, integrate
-from .fem import FEM, FEMSolution, solve_fem
-from .fracture.sif import TipResult
-from .growth import Growth, GrowthStep, grow
-from .meshless_solution import MeshlessSolution
-from .methods import EFG, Rosette, Zone
-from .methods.discretize import discretize
-from .methods.mlpg import MLPG
-from .problem import Crack, Domain, Elastic, Field, Loop, PointSupport, Pressure, Scene, Support, Traction
-from .problem.graded import Grading
-from .problem.history import Heaviside, ImpactPulse, Linear, Ramp, Stepping, Tabulated
-from .scenefile import load_scene, load_study
-from .solution import Solution
-from .static import solve
+# Public names and the modules that define them, imported on first use (PEP 562): a plain
+# `efgkit run` never loads the explicit, FEM, growth or MLPG machinery (cold start).
+_WHERE = {
+    "DynamicSolution": "explicit", "integrate": "explicit",
+    "FEM": "fem", "FEMSolution": "fem", "solve_fem": "fem",
+    "TipResult": "fracture.sif",
+    "Growth": "growth", "GrowthStep": "growth", "grow": "growth",
+    "MeshlessSolution": "meshless_solution",
+    "EFG": "methods", "Rosette": "methods", "Zone": "methods",
+    "discretize": "methods.discretize",
+    "MLPG": "methods.mlpg",
+    **dict.fromkeys(("Crack", "Domain", "Elastic", "Field", "Loop", "PointSupport", "Pressure",
+                     "Scene", "Support", "Traction"), "problem"),
+    **dict.fromkeys(("Heaviside", "ImpactPulse", "Linear", "Ramp", "Stepping", "Tabulated"),
+                    "problem.history"),
+    "Grading": "problem.graded",
+    "load_scene": "scenefile", "load_study": "scenefile",
+    "Solution": "solution",
+    "solve": "static",
+}
+
+
+def __getattr__(name: str):
+    """A public name (or a subpackage) imported on first access."""
+    if name in _WHERE:
+        value = getattr(import_module(f".{_WHERE[name]}", __name__), name)
+    else:
+        try:
+            value = import_module(f".{name}", __name__)
+        except ModuleNotFoundError as err:
+            if err.name != f"{__name__}.{name}":
+                raise
+            raise AttributeError(f"module {__name__!r} has no attribute {name!r}") from None
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_WHERE))
+
 
 try:
     __version__ = version("efgkit")

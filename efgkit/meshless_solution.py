@@ -93,6 +93,12 @@ class MeshlessSolution(Solution):
         """Strain (xx, yy, xy engineering) at points ``x (n, 2)``, shape (n, 3)."""
         return self._fields(x, derivatives=True).strain(self.coeffs)
 
+    def displacement_stress(self, x) -> tuple[np.ndarray, np.ndarray]:
+        """``(displacement (n, 2), stress (n, 3))`` at points ``x (n, 2)`` from one evaluation
+        of the shape functions and their derivatives."""
+        f = self._fields(x, derivatives=True)
+        return f.displacement(self.coeffs), f.strain(self.coeffs) @ self.scene.material.D.T
+
     def quadrature_fields(self):
         """``(x (n, 2), w (n,), stress (n, 3), grad_u (n, 2, 2))`` at the domain quadrature points."""
         grad = self.gradient()

@@ -11,7 +11,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from .io import sample_grid, von_mises
+from .io import sampled_fields, von_mises
 from .problem.geometry import Domain
 
 __all__ = ["COMPONENTS", "plot_domain_dependence", "plot_nodes", "plot_stress"]
@@ -210,7 +210,8 @@ def plot_nodes(solution_or_nodes, domain=None, ax=None, supports_of=None):
 
 def plot_stress(solution, component: str = "von_mises", ax=None, n_target: int = 20000,
                 levels: int = 30, limits=None):
-    """Filled contours of a stress component on :func:`~efgkit.io.sample_grid`.
+    """Filled contours of a stress component on :func:`~efgkit.io.sample_grid`
+    (:func:`~efgkit.io.sampled_fields`: computed once per solution and ``n_target``).
 
     Parameters
     ----------
@@ -240,8 +241,7 @@ def plot_stress(solution, component: str = "von_mises", ax=None, n_target: int =
     from matplotlib.tri import Triangulation
 
     scene = solution.scene
-    x, tri = sample_grid(scene.domain, n_target, scene.cracks)
-    s = solution.stress(x)
+    x, tri, _, s = sampled_fields(solution, n_target, displacement=False)  # shared with the VTU
     z = von_mises(s, scene.material) if component == "von_mises" else s[:, COMPONENTS.index(
         component) - 1]
     lo, hi = float(z.min()), float(z.max())

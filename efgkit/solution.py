@@ -121,6 +121,11 @@ class Solution(ABC):
             s = g.factors(pts)[0][:, None] * s
         return s
 
+    def displacement_stress(self, x) -> tuple[np.ndarray, np.ndarray]:
+        """``(displacement (n, 2), stress (n, 3))`` at points ``x (n, 2)``; methods whose
+        fields come from one evaluation at the points (EFG: the shape functions) do it once."""
+        return self.displacement(x), self.stress(x)
+
     @abstractmethod
     def strain_energy(self) -> float:
         """U = 1/2 int eps : sigma dOmega over the body."""

@@ -39,11 +39,12 @@ from .system.constraints import (
     penalty,
     rigid_body_modes,
 )
+from .system.linalg import AUTO_AMG_THRESHOLD
 from .system.linalg import solve as linear_solve
 from .timing import Stopwatch
 
 __all__ = ["DEFAULT_PENALTY", "DEFAULT_STABILISATION", "LOCKING_PENALTY", "auxiliary_space",
-           "constrained_system", "solve", "solve_mlpg"]
+           "constrained_system", "large_system_bc", "solve", "solve_mlpg"]
 
 # beta h / E of the penalty method. Its consistency error falls like E / (beta h), but
 # beta -> infinity is a Lagrange method with one multiplier per boundary Gauss point,
@@ -66,6 +67,20 @@ def auxiliary_space(disc: Discretization) -> AuxiliarySpace:
     cracks = disc.scene.cracks
     cuts = np.concatenate([c.segments for c in cracks]) if cracks else None
     return AuxiliarySpace(x, phi, disc.scene.material.D, disc.scene.domain, cuts)
+
+
+def large_system_bc(method: EFG, disc: Discretization, bc_was_auto: bool) -> EFG:
+    """``method`` with bc="variational" (Nitsche) instead of the "lagrange" that ``bc="auto"``
+    gives scenes with crack tips (:meth:`EFG.for_scene`), when the system is solved by CG:
+    more than :data:`~efgkit.system.linalg.AUTO_AMG_THRESHOLD` unknowns and a solver other
+    than "direct". Both are consistent (the penalty method is not: up to 13x the K error,
+    docs/verification.md ``defaults``); on the cracked plate of 19.6k nodes Nitsche gave the
+    same K_I to 2.3e-8 in 139 CG iterations against 172 in 2 Uzawa steps, 1.4x faster
+    (docs/performance.md, ``benchmarks/bc_methods.py``). Otherwise ``method`` unchanged."""
+    if (bc_was_auto and method.bc == "lagrange" and method.solver != "direct"
+            and disc.n_dofs > AUTO_AMG_THRESHOLD):
+        return replace(method, bc="variational")
+    return method
 
 
 def constrained_system(disc: Discretization, K, f: np.ndarray, method: EFG | None = None):
@@ -149,6 +164,7 @@ def solve(scene: Scene, method: EFG | MLPG, disc: Discretization | None = None, 
         return solve_mlpg(scene, method, disc)
     t_all = time.perf_counter()
     sw = Stopwatch()  # laps: stages that add up to the wall time, compilation apart
+    bc_was_auto = method.bc == "auto"
     method = method.for_scene(scene)  # the automatic choices (tip zones, enrichment, bc)
     if method.bc == "penalty" and (method.penalty or DEFAULT_PENALTY) >= LOCKING_PENALTY:
         warnings.warn(
@@ -161,6 +177,9 @@ def solve(scene: Scene, method: EFG | MLPG, disc: Discretization | None = None, 
     if disc is None:  # the discretisation's stages are this call's (a given one's are not)
         disc = discretize(scene, method)
         sw = Stopwatch(disc.timings | {k: v + disc.timings.get(k, 0.0) for k, v in sw.timings.items()})
+    method = large_system_bc(method, disc, bc_was_auto)  # CG-sized: Nitsche for Lagrange
+    if method is not disc.method and method.bc != disc.method.bc:
+        disc = replace(disc, method=method)  # the solution reports the bc it was solved with
     mat, m = scene.material, method
     K = stiffness(disc.shape, modulus_weights(disc.scene, disc.points.x, disc.points.w), mat.D) \
         if K is None else K
@@ -205,8 +224,6 @@ def solve_mlpg(scene: Scene, method: MLPG, disc: Discretization | None = None) -
     >>> round(float(sol.displacement([[2.0, 0.5]])[0, 0]), 6)   # sigma L / E = 0.002
     0.002
     """
-    from dataclasses import replace
-
     from .methods.local import DEFAULT_MLPG_PENALTY, discretize_local, local_system
     from .system.constraints import LinearSystem, check_rigid_modes
     from .system.krylov import solve_unsymmetric

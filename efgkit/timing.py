@@ -9,43 +9,53 @@ type inference, code generation and cache loading; nested events are counted onc
 
 from __future__ import annotations
 
+import sys
 import threading
 import time
 from contextlib import contextmanager
 
-from numba.core import event
-
-__all__ = ["COMPILE", "Stopwatch", "compile_seconds"]
+__all__ = ["COMPILE", "Stopwatch", "compile_seconds", "watch_compiles"]
 
 COMPILE = "compile"
 
-
-class _CompileClock(event.Listener):
-    """Seconds spent holding numba's compiler lock, outermost acquisitions only."""
-
-    def __init__(self):
-        self.seconds = 0.0
-        self._local = threading.local()
-
-    def on_start(self, ev):
-        depth = getattr(self._local, "depth", 0)
-        if depth == 0:
-            self._local.t0 = time.perf_counter()
-        self._local.depth = depth + 1
-
-    def on_end(self, ev):
-        self._local.depth -= 1
-        if self._local.depth == 0:
-            self.seconds += time.perf_counter() - self._local.t0
+_CLOCK = []  # the listener, once numba is imported (a plain run never imports it)
 
 
-_CLOCK = _CompileClock()
-event.register("numba:compiler_lock", _CLOCK)
+def watch_compiles() -> None:
+    """Start counting numba's compile time (idempotent). The compiled-kernel modules call it
+    when they are imported, before anything of theirs compiles; numba itself is imported only
+    there, so that runs without compiled kernels start without it."""
+    if _CLOCK:
+        return
+    from numba.core import event
+
+    class CompileClock(event.Listener):
+        """Seconds spent holding numba's compiler lock, outermost acquisitions only."""
+
+        def __init__(self):
+            self.seconds = 0.0
+            self._local = threading.local()
+
+        def on_start(self, ev):
+            depth = getattr(self._local, "depth", 0)
+            if depth == 0:
+                self._local.t0 = time.perf_counter()
+            self._local.depth = depth + 1
+
+        def on_end(self, ev):
+            self._local.depth -= 1
+            if self._local.depth == 0:
+                self.seconds += time.perf_counter() - self._local.t0
+
+    _CLOCK.append(CompileClock())
+    event.register("numba:compiler_lock", _CLOCK[0])
 
 
 def compile_seconds() -> float:
     """Seconds this process has spent in numba's compiler (and cache loading) so far."""
-    return _CLOCK.seconds
+    if not _CLOCK and "numba" in sys.modules:  # imported by someone else: count from now
+        watch_compiles()
+    return _CLOCK[0].seconds if _CLOCK else 0.0
 
 
 class Stopwatch:

@@ -111,3 +111,16 @@ def test_scaling_benchmark_quick_runs():
     for r in res["rows"]:
         assert abs(r["KI"] / 34.0 - 1) < 0.02 and abs(r["KII"] / 4.55 - 1) < 0.02
         assert sum(r["stages_s"].values()) <= r["wall_s"] * 1.05
+
+
+@pytest.mark.slow
+def test_bc_methods_and_uzawa_benchmarks_run():
+    """Smoke test of benchmarks/bc_methods.py and benchmarks/uzawa.py at small sizes: every
+    method converges with CG and agrees with SuperLU on the same discretisation."""
+    bc = _load("bc_methods").main(["--nodes", "1500", "--rounds", "1", "--no-write"])
+    for method, runs in bc["runs"].items():
+        assert runs[0]["solver"] == "amg" and runs[0]["residual"] <= 1e-8, method
+        # K_I of the cracked plate against SuperLU's of the same method: both checked to rtol 1e-8
+        assert abs(runs[0]["KI"] / bc["reference"][method]["KI"] - 1) < 1e-6, method
+    uz = _load("uzawa").main(["--scene", "kirsch", "--nodes", "2200", "--no-write"])
+    assert all(r[0]["vs_direct"] < 1e-6 for r in uz["runs"].values())

@@ -274,3 +274,13 @@ def test_python_dash_m(tmp_path):
     r = subprocess.run([sys.executable, "-m", "efgkit", "run", str(tmp_path / "none.toml")],
                        capture_output=True, text=True, timeout=60)
     assert r.returncode == 2 and "none.toml" in r.stderr and "Traceback" not in r.stderr
+
+
+def test_run_summary_reports_cg_iterations_and_uzawa_steps(tmp_path, capsys):
+    """With solver="amg" the summary line says how the answer was reached (issue [perf]:
+    iterations reported): CG iterations and, for Lagrange multipliers, the Uzawa steps."""
+    scene = tmp_path / "patch_amg.toml"
+    scene.write_text(PATCH.read_text() + 'solver = "amg"\n')
+    assert main(["run", str(scene), "--out", str(tmp_path / "out"), "--samples", "200"]) == 0
+    line = next(x for x in capsys.readouterr().out.splitlines() if x.startswith("solver"))
+    assert re.fullmatch(r"solver    amg, residual \S+, \d+ CG iterations in [12] Uzawa steps", line), line

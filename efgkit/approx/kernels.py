@@ -12,7 +12,11 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
+from ..timing import watch_compiles
+
 __all__ = ["mls_padded", "mls_linear", "WEIGHT_IDS", "BASIS_IDS", "weight_id"]
+
+watch_compiles()  # before anything here compiles
 
 WEIGHT_IDS = {"quartic": 0, "cubic": 1, "gaussian": 2}
 BASIS_IDS = {"linear": 0, "quadratic": 1}

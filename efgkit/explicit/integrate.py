@@ -38,6 +38,7 @@ from ..methods.mlpg import MLPG
 from ..problem.graded import refuse_grading
 from ..problem.history import Stepping
 from ..problem.scene import Scene
+from ..timing import watch_compiles
 from .dsif import dynamic_dsif
 from .output import Recorder
 from .result import DynamicSolution
@@ -45,6 +46,8 @@ from .spectrum import stable_step
 from .system import Dynamics, dynamics, fit_coefficients
 
 __all__ = ["BLOWUP_FACTOR", "InstabilityError", "State", "integrate", "initial_state", "load_stepping"]
+
+watch_compiles()  # before anything here compiles
 
 BLOWUP_FACTOR = 1e3  # kinetic energy over the energy put in that means instability
 _MLPG_REMEDY = ("the unsymmetric MLPG1 K has modes that grow at any step "

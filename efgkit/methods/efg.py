@@ -363,7 +363,9 @@ class EFG(MeshlessChoices):
           enrichments refuse);
         * ``bc="auto"``: Lagrange multipliers with crack tips (K as accurate as with the
           penalty method, or up to 13 times more, at equal cost, docs/verification.md
-          ``defaults``), the penalty method otherwise.
+          ``defaults``), the penalty method otherwise; :func:`efgkit.static.solve` then
+          takes Nitsche (``"variational"``, as consistent, fewer CG iterations) for
+          Lagrange on systems that CG solves (:func:`efgkit.static.large_system_bc`).
 
         A scene without cracks gets none of the crack work. Explicit choices are kept.
 

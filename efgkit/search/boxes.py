@@ -16,7 +16,6 @@ import numpy as np
 
 from ..jit import resolve_backend
 from ..nodes import NodeCloud
-from .kernels import register, strip_edges
 
 __all__ = ["BoxGrid", "KINDS", "SPREAD"]
 
@@ -120,6 +119,8 @@ class BoxGrid:
             if edges[-1] <= a_hi:  # round-off: the last strip must hold a_hi's neighbourhood
                 edges = np.append(edges, edges[-1] + h)
         else:
+            from .kernels import strip_edges  # compiled: numba only where it is used
+
             n_bins = int(min(max(64, 8 * math.sqrt(len(x))), 1 << 16))
             edges = strip_edges(x[:, axis], r, a_lo, a_hi, float(factor), n_bins)
         side = np.diff(edges)
@@ -129,6 +130,8 @@ class BoxGrid:
         per = np.floor((o_hi - o_lo) / side).astype(np.int64) + 1
         offset = np.concatenate([[0], np.cumsum(per)]).astype(np.int64)
         if resolve_backend(backend, len(x)) == "numba":
+            from .kernels import register
+
             start, members = register(x, r, axis, edges, side, offset, o_lo)
         else:
             start, members = _register_numpy(x, r, axis, edges, side, offset, o_lo)

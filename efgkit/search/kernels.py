@@ -17,7 +17,11 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
+from ..timing import watch_compiles
+
 __all__ = ["strip_edges", "register", "count_neighbours", "fill_padded", "fill_csr"]
+
+watch_compiles()  # before anything here compiles
 
 
 @njit(cache=True)

@@ -18,14 +18,12 @@ from __future__ import annotations
 from contextlib import contextmanager
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 
 from ..jit import resolve_backend
 from ..nodes import NodeCloud
 from .boxes import SPREAD, BoxGrid
 from .kdtree import kdtree_lists
-from .kernels import count_neighbours, fill_csr, fill_padded
 
 __all__ = ["Neighbours", "BoxGrid", "METHODS", "choose_method", "find_neighbours",
            "neighbour_lists"]
@@ -88,6 +86,8 @@ def _check(x, nodes, method):
 @contextmanager
 def _threads(n_points):
     """One numba thread for fewer than PARALLEL points, the configured number otherwise."""
+    import numba  # here, not at the top: runs without compiled kernels never import it
+
     before = numba.get_num_threads()
     if n_points < PARALLEL:
         numba.set_num_threads(1)
@@ -122,6 +122,8 @@ def neighbour_lists(x: np.ndarray, nodes: NodeCloud, boxes: BoxGrid | None = Non
     grid = _grid(x, nodes, boxes, method)
     if grid is None:
         return kdtree_lists(x, nodes)
+    from .kernels import count_neighbours, fill_csr
+
     with _threads(len(x)):
         box = grid.box_of(x)
         count = count_neighbours(x, box, grid.start, grid.members, nodes.x, nodes.radius)
@@ -165,6 +167,8 @@ def find_neighbours(x: np.ndarray, nodes: NodeCloud, boxes: BoxGrid | None = Non
         idx = np.zeros((len(x), kmax), np.int64)
         idx[mask] = indices
         return Neighbours(idx, mask)
+    from .kernels import count_neighbours, fill_padded
+
     with _threads(len(x)):
         box = grid.box_of(x)
         count = count_neighbours(x, box, grid.start, grid.members, nodes.x, nodes.radius)

@@ -17,7 +17,6 @@ forms the same matrix with scipy.sparse products.
 from __future__ import annotations
 
 import numpy as np
-from numba import njit, prange
 from scipy.sparse import bmat, bsr_array, csr_array, diags_array, vstack
 
 from ..approx.shape import Shape
@@ -26,161 +25,41 @@ from ..jit import resolve_backend
 __all__ = ["stiffness", "load_vector", "lumped_mass", "point_to_function_map"]
 
 
-@njit(cache=True)
-def _transpose_padded(idx, mask, n_functions):
-    """Points of each function: CSR (indptr (n_functions+1,), point (nnz,), slot (nnz,))."""
-    n, k = idx.shape
-    counts = np.zeros(n_functions + 1, np.int64)
-    for q in range(n):
-        for a in range(k):
-            if mask[q, a]:
-                counts[idx[q, a] + 1] += 1
-    indptr = np.cumsum(counts)
-    fill = indptr[:-1].copy()
-    point = np.empty(indptr[-1], np.int64)
-    slot = np.empty(indptr[-1], np.int64)
-    for q in range(n):
-        for a in range(k):
-            if mask[q, a]:
-                I = idx[q, a]
-                point[fill[I]] = q
-                slot[fill[I]] = a
-                fill[I] += 1
-    return indptr, point, slot
-
-
 def point_to_function_map(shape: Shape):
     """For each shape function, the quadrature points in its support (CSR triplet)."""
+    from .kernels import transpose_padded
+
     nb = shape.neighbours
-    return _transpose_padded(nb.idx, nb.mask, shape.n_functions)
-
-
-@njit(cache=True, parallel=True)
-def _pattern(t_ptr, t_point, trial_idx, trial_mask, n_cols, n_threads):
-    """Column pattern of every row: the trial functions met in the row's points."""
-    n_rows = len(t_ptr) - 1
-    row_len = np.zeros(n_rows + 1, np.int64)
-    k = trial_idx.shape[1]
-    for t in prange(n_threads):
-        seen = np.full(n_cols, -1, np.int64)
-        for I in range(t, n_rows, n_threads):
-            c = 0
-            for p in range(t_ptr[I], t_ptr[I + 1]):
-                q = t_point[p]
-                for b in range(k):
-                    if trial_mask[q, b]:
-                        J = trial_idx[q, b]
-                        if seen[J] != I:
-                            seen[J] = I
-                            c += 1
-            row_len[I + 1] = c
-    indptr = np.cumsum(row_len)
-    cols = np.empty(indptr[-1], np.int64)
-    for t in prange(n_threads):
-        seen = np.full(n_cols, -1, np.int64)
-        for I in range(t, n_rows, n_threads):
-            c = indptr[I]
-            for p in range(t_ptr[I], t_ptr[I + 1]):
-                q = t_point[p]
-                for b in range(k):
-                    if trial_mask[q, b]:
-                        J = trial_idx[q, b]
-                        if seen[J] != I:
-                            seen[J] = I
-                            cols[c] = J
-                            c += 1
-            cols[indptr[I]:indptr[I + 1]].sort()
-    return indptr, cols
-
-
-@njit(cache=True, parallel=True)
-def _stiffness_blocks(indptr, cols, t_ptr, t_point, t_slot, tgx, tgy, trial_idx, trial_mask,
-                      gx, gy, w, D, upper, n_threads):
-    """Blocks (nnz, 2, 2) of K in the pattern (indptr, cols); with ``upper`` only the blocks
-    J >= I (the rest is left zero for :func:`_mirror_upper`)."""
-    n_rows = len(indptr) - 1
-    n_cols = 0
-    for c in cols:
-        n_cols = max(n_cols, c + 1)
-    data = np.zeros((len(cols), 2, 2))
-    k = trial_idx.shape[1]
-    for t in prange(n_threads):
-        where = np.full(max(n_cols, 1), -1, np.int64)
-        for I in range(t, n_rows, n_threads):
-            for c in range(indptr[I], indptr[I + 1]):
-                where[cols[c]] = c
-            for p in range(t_ptr[I], t_ptr[I + 1]):
-                q = t_point[p]
-                a = t_slot[p]
-                ax = w[q] * tgx[q, a]
-                ay = w[q] * tgy[q, a]
-                for b in range(k):
-                    if not trial_mask[q, b] or (upper and trial_idx[q, b] < I):
-                        continue
-                    bx = gx[q, b]
-                    by = gy[q, b]
-                    # D B_b: columns for the x and y components of J.
-                    s0x = D[0, 0] * bx + D[0, 2] * by
-                    s1x = D[1, 0] * bx + D[1, 2] * by
-                    s2x = D[2, 0] * bx + D[2, 2] * by
-                    s0y = D[0, 1] * by + D[0, 2] * bx
-                    s1y = D[1, 1] * by + D[1, 2] * bx
-                    s2y = D[2, 1] * by + D[2, 2] * bx
-                    blk = data[where[trial_idx[q, b]]]
-                    blk[0, 0] += ax * s0x + ay * s2x
-                    blk[0, 1] += ax * s0y + ay * s2y
-                    blk[1, 0] += ay * s1x + ax * s2x
-                    blk[1, 1] += ay * s1y + ax * s2y
-    return data
-
-
-@njit(cache=True, parallel=True)
-def _mirror_upper(indptr, cols, data):
-    """K_JI = K_IJ^T for the blocks J > I of a symmetric pattern (sorted columns); each
-    lower block is written once, by its row I."""
-    n_rows = len(indptr) - 1
-    for I in prange(n_rows):
-        for c in range(indptr[I], indptr[I + 1]):
-            J = cols[c]
-            if J <= I:
-                continue
-            lo, hi = indptr[J], indptr[J + 1]
-            while lo < hi:  # binary search for column I in row J
-                mid = (lo + hi) // 2
-                if cols[mid] < I:
-                    lo = mid + 1
-                else:
-                    hi = mid
-            data[lo, 0, 0] = data[c, 0, 0]
-            data[lo, 0, 1] = data[c, 1, 0]
-            data[lo, 1, 0] = data[c, 0, 1]
-            data[lo, 1, 1] = data[c, 1, 1]
+    return transpose_padded(nb.idx, nb.mask, shape.n_functions)
 
 
 def _stiffness_numpy(test: Shape, trial: Shape, w: np.ndarray, D: np.ndarray) -> csr_array:
-    """Reference: K = sum over Voigt pairs of (B_v)^T diag(w D_ij) B_phi with scipy.sparse."""
-    def voigt(sh):  # B as three (n_points, 2 n) operators: rows eps_xx, eps_yy, gamma_xy
-        z = csr_array(sh.dx.shape)
-        return [_interleave(ux, uy) for ux, uy in [(sh.dx, z), (z, sh.dy), (sh.dy, sh.dx)]]
-
-    Bv, Bp = voigt(test), voigt(trial)
-    K = None
-    for i in range(3):
-        for j in range(3):
-            if D[i, j] == 0:
-                continue
-            term = Bv[i].T @ (Bp[j].multiply((w * D[i, j])[:, None]).tocsr())
-            K = term if K is None else K + term
-    return csr_array(K)
-
-
-def _interleave(ux: csr_array, uy: csr_array) -> csr_array:
-    """[ux | uy] with columns interleaved (2 I, 2 I + 1), shape (n_points, 2 n)."""
-    ux, uy = ux.tocoo(), uy.tocoo()
-    rows = np.concatenate([ux.row, uy.row])
-    cols = np.concatenate([2 * ux.col, 2 * uy.col + 1])
-    data = np.concatenate([ux.data, uy.data])
-    return csr_array((data, (rows, cols)), shape=(ux.shape[0], 2 * ux.shape[1]))
+    """Reference with scipy.sparse: the four products ``P_de = T_d^T diag(w) Phi_e`` of the
+    test and trial derivative operators (d, e in {x, y}; ``P_yx = P_xy^T`` when test = trial),
+    combined per block ``K_ab = sum_de D[i(a, d), j(b, e)] P_de`` with ``i(x, x) = 0`` (xx),
+    ``i(y, y) = 1`` (yy), ``i(x, y) = i(y, x) = 2`` (xy), and interleaved (2 I + a, 2 J + b).
+    Three products for Bubnov-Galerkin instead of five of the interleaved 2n-column B
+    operators (3.5-4x faster on the quick-start example)."""
+    voigt = {(0, 0): 0, (1, 1): 1, (0, 1): 2, (1, 0): 2}  # (component, derivative) -> Voigt row
+    tv = [csr_array(t).T.tocsr() for t in (test.dx, test.dy)]
+    wp = [csr_array(t).multiply(w[:, None]).tocsr() for t in (trial.dx, trial.dy)]
+    P = {(d, e): tv[d] @ wp[e] for d in (0, 1) for e in (0, 1) if test is not trial or (d, e) != (1, 0)}
+    if test is trial:
+        P[1, 0] = P[0, 1].T
+    rows, cols, vals = [], [], []
+    for a in (0, 1):
+        for b in (0, 1):
+            terms = [D[voigt[a, d], voigt[b, e]] * p for (d, e), p in P.items()
+                     if D[voigt[a, d], voigt[b, e]] != 0]
+            if terms:
+                block = sum(terms[1:], terms[0]).tocoo()
+                rows.append(2 * block.row + a)
+                cols.append(2 * block.col + b)
+                vals.append(block.data)
+    shape = (2 * test.dx.shape[1], 2 * trial.dx.shape[1])
+    if not vals:
+        return csr_array(shape)
+    return csr_array((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=shape)
 
 
 def stiffness(trial: Shape, w: np.ndarray, D: np.ndarray, test: Shape | None = None,
@@ -232,16 +111,18 @@ def stiffness(trial: Shape, w: np.ndarray, D: np.ndarray, test: Shape | None = N
         return _stiffness_numpy(test, trial, w, np.asarray(D, dtype=float))
     import numba
 
+    from .kernels import mirror_upper, pattern, stiffness_blocks
+
     threads = numba.get_num_threads()
     t_ptr, t_point, t_slot = point_to_function_map(test)
     nb = trial.neighbours
-    indptr, cols = _pattern(t_ptr, t_point, nb.idx, nb.mask, trial.n_functions, threads)
+    indptr, cols = pattern(t_ptr, t_point, nb.idx, nb.mask, trial.n_functions, threads)
     D = np.ascontiguousarray(D, float)
     symmetric = test is trial and np.array_equal(D, D.T)  # K_JI = K_IJ^T: half the work
-    data = _stiffness_blocks(indptr, cols, t_ptr, t_point, t_slot, test.ddx, test.ddy, nb.idx,
+    data = stiffness_blocks(indptr, cols, t_ptr, t_point, t_slot, test.ddx, test.ddy, nb.idx,
                              nb.mask, trial.ddx, trial.ddy, w, D, symmetric, threads)
     if symmetric:
-        _mirror_upper(indptr, cols, data)
+        mirror_upper(indptr, cols, data)
     K = bsr_array((data, cols, indptr), shape=(2 * test.n_functions, 2 * trial.n_functions))
     return csr_array(K.tocsr())
 

@@ -32,7 +32,15 @@ __all__ = ["solve", "SolverError", "AUTO_AMG_THRESHOLD", "ERROR_FACTOR"]
 
 AUTO_AMG_THRESHOLD = 20_000  # unknowns above which "auto" uses CG for SPD systems
 MAX_ITERATIONS = 400
-AUGMENTATION = 1e3  # augmented-Lagrangian weight: its largest diagonal entry over K's
+# Augmented-Lagrangian weight: its largest diagonal entry over K's. The Uzawa steps shrink a
+# multiplier mode by 1 / (1 + rho mu); at 1e3 the Kirsch plate (symmetry supports, one component
+# per edge) has a mode with rho mu ~ 0.01: 20 steps left the gap at 5e-8 > rtol and 'auto' fell
+# back to SuperLU (87 % of the example's time). The auxiliary preconditioner factors the
+# boundary rows, so a larger weight costs no CG iterations (condition estimate 864 at 1e3-1e7);
+# steps / CG iterations at 1e3, 1e5, 1e6, 1e7: Kirsch 8.2k nodes 20+ / 340 (failed), 7 / 217,
+# 2 / 142, 2 / 116; cracked plate 7.8k nodes 3 / 179, 2 / 136, 2 / 130. 1e6 keeps the round-off
+# of K + rho P (~1e-10 relative) well below rtol.
+AUGMENTATION = 1e6
 MAX_UZAWA_STEPS = 20
 # An iterative answer is accepted if the bound on its relative energy error (_error_bound) is at most
 # ERROR_FACTOR * rtol (1e-3 at the default rtol): the bound over the residual measures how far the
@@ -223,7 +231,8 @@ def _augmented_lagrangian(system, near_nullspace, rtol, auxiliary, stiffness):
     The multiplier error shrinks by about ``1 / (1 + rho mu)`` per step (``mu`` the
     eigenvalues of the Schur complement in the ``D`` metric); ``rho`` puts the largest
     diagonal entry of the augmentation at ``AUGMENTATION`` times K's, as a penalty
-    would, so a few steps reach ``rtol``. The ``K c + G^T lambda - f`` part of the
+    would (1e6: see the measurements at AUGMENTATION), so two steps usually reach ``rtol``.
+    The ``K c + G^T lambda - f`` part of the
     residual is each step's CG residual, the other part is ``G c - q``.
     """
     n = system.n_coeffs
