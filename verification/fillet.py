@@ -33,11 +33,12 @@ toward the bottom of the structure" (Fig. 55); with the rigid one it "will propa
 directly toward the opposite fillet" (Fig. 56). The figures are not in the text; the
 checks make these sentences numbers. Rigid (full mode): the path ends on the right fillet's
 arc, and strays from the straight line between its ends by at most 7.5 mm (a tenth of the
-web; measured 2.4 mm at h = da = 5 mm). Thin: the path crosses the flange's top (y = 75)
-within the left half of the web's width (x < 187.5 mm; measured 177.7 mm), its last heading
-points down (below -60 degrees; measured -96) and it ends on the bottom edge. Both: K_I > 0
-at every step. Quick mode: h = 7.5 mm, one solve per case: the first kink of the thin case
-turns further down than the rigid one's.
+web; measured 2.3 mm at h = da = 5 mm; the end is at (225.09, 93.06) mm, on the arc to
+within its polyline sag). Thin: the path crosses the flange's top (y = 75) within the left
+half of the web's width (x < 187.5 mm; measured 178.4 mm), its last heading points down
+(below -60 degrees; measured -103) and it ends on the bottom edge (at x = 197.1 mm, after
+21 increments; rigid: 13). Both: K_I > 0 at every step. Quick mode: h = 7.5 mm, one
+solve per case: the first kink of the thin case turns further down than the rigid one's.
 """
 
 from __future__ import annotations
@@ -174,7 +175,8 @@ def main(quick: bool = False, out_dir=None) -> dict:
     for c, r in runs.items():
         rep.check(f"{c}: smallest K_I over the steps / (P/W sqrt(mm)), an opening crack (> 0)",
                   float(np.min(r["KI"]) / (P / WEB)), ">=", 1.0)
-    # measured first kinks: thin -24.8, rigid -10.6 degrees (h = 5); -?, -10.9 (h = 7.5)
+    # measured first kinks: thin -24.8, rigid -10.6 degrees (h = 5: difference -14.2);
+    # difference -18.1 at h = 7.5 (quick)
     rep.check("first kink, thin minus rigid I-beam, degrees (the thin case turns further down)",
               runs["thin"]["kink_deg"][0] - runs["rigid"]["kink_deg"][0], "<=", -5.0)
     if not quick:
@@ -186,7 +188,7 @@ def main(quick: bool = False, out_dir=None) -> dict:
         runs["rigid"]["end"] = end.tolist()
         runs["rigid"]["line_deviation"] = line_deviation(rg)
         rep.check("rigid: ends on the opposite (right) fillet: distance of the path's end to its "
-                  "arc (mm)", on_arc if inside else math.inf, "<=", 1e-3)
+                  "arc (mm)", on_arc if inside else math.inf, "<=", 1e-5 * RHO)  # polyline sag
         rep.check("rigid: almost straight: largest distance of the path from the chord between "
                   "its ends (mm)", runs["rigid"]["line_deviation"], "<=", 0.1 * WEB)
         x75 = x_at_height(th, FLANGE)
