@@ -39,9 +39,14 @@ neither EFG nor remeshed FE captured, Fig. 59); setup B "grew directly toward th
 hole". Checked (full mode): setup A crosses the hole line x = 6 inside the gap between holes
 1 and 2, touches no hole, and passes hole 2 on its far side (x > 6.25 at the height of its
 centre); setup B ends on hole 2's circle and stays clear of holes 1 and 3. Both: K_I > 0
-at every step. The seed's figures (paths) are not in the text, so no coordinate of its
-paths is compared. Quick mode: h = 0.5 in, da = 0.5 in, one increment per setup: K_I > 0
-and the first kink turns the crack towards the load line (clockwise).
+at every step. Measured (full mode, h = da = 0.25 in, 16 and 28 solves): setup A crosses
+x = 6 at y = 3.62 in (the gap spans 3.0 to 4.5), comes within 0.145 in of hole 2 and
+0.163 in of hole 1, passes hole 2's centre height at x = 6.41 in (0.16 in beyond its far
+edge) and then runs up to the top edge at x = 7.60 in, left of the load (x = 10), where it
+cuts the beam through; setup B runs into hole 2 at (5.790, 4.615) in after 15 increments,
+0.87 in from hole 1. The seed's figures (paths) are not in the text, so no coordinate of its
+paths is compared. Quick mode: h = 0.5 in, the initial crack of each setup (one solve):
+K_I > 0 and the first kink turns the crack towards the load line (clockwise).
 """
 
 from __future__ import annotations
@@ -103,8 +108,8 @@ def run(setup: str, spacing: float, da: float, max_steps: int, fig_dir=None) -> 
     t0 = time.perf_counter()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        steps = list(grow(scene(setup), method(spacing),
-                          Growth(da=da, max_steps=max_steps, snap=0.5)))
+        gen = grow(scene(setup), method(spacing), Growth(da=da, max_steps=max(max_steps, 1), snap=0.5))
+        steps = [next(gen)] if max_steps == 0 else list(gen)
     last = steps[-1]
     v = (last.state.cracks[0] if last.state is not None else last.scene.cracks[0]).vertices
     end = boundary_end(last)
@@ -175,7 +180,7 @@ def crossing(vertices, x: float | None = None, y: float | None = None) -> float 
 def main(quick: bool = False, out_dir=None) -> dict:
     rep = Report(NAME, quick)
     if quick:
-        spacing, da, n_steps = 0.5, 0.5, 1
+        spacing, da, n_steps = 0.5, 0.5, 0
     else:
         spacing, da, n_steps = 0.25, 0.25, 48
     fig_dir = None if quick else ROOT / "docs" / "figures"
@@ -195,7 +200,7 @@ def main(quick: bool = False, out_dir=None) -> dict:
     for s, r in runs.items():
         rep.check(f"setup {s}: smallest K_I over the steps / (P / sqrt(in)) (an opening crack: > 0)",
                   float(np.min(r["KI"]) / P), ">=", 0.1)
-        # measured at h = 0.5: -17 (A) and -13 (B) degrees; at h = 0.25: -17.2 and -13.3
+        # measured at h = 0.5: -18.3 (A) and -14.9 (B) degrees; at h = 0.25: -17.5 and -13.7
         rep.check(f"setup {s}: first kink angle, degrees (turns clockwise, towards the load line)",
                   r["kink_deg"][0], "<=", -5.0)
         r["hole_distances"] = hole_distances(r["vertices"]).tolist()
@@ -218,8 +223,9 @@ def main(quick: bool = False, out_dir=None) -> dict:
         end = np.asarray(B["vertices"][-1])
         d2 = abs(float(np.hypot(*(end - HOLES[1]))) - HOLE_R)
         B["end"] = end.tolist()
+        # the hole is a polyline at 0.5 degree steps: its sag is 9.5e-6 R (efgkit.problem.geometry)
         rep.check("setup B: runs into hole 2: distance of the path's end to hole 2's circle (in)",
-                  d2, "<=", 1e-6)
+                  d2, "<=", 1e-5 * HOLE_R)
         rep.check("setup B: clear of holes 1 and 3: smaller distance of the path to them (in)",
                   min(B["hole_distances"][0], B["hole_distances"][2]), ">=", 0.25)
         rep.figures = [p for r in runs.values() for p in r.get("figures", [])]
