@@ -38,7 +38,9 @@ within its polyline sag). Thin: the path crosses the flange's top (y = 75) withi
 half of the web's width (x < 187.5 mm; measured 178.4 mm), its last heading points down
 (below -60 degrees; measured -103) and it ends on the bottom edge (at x = 197.1 mm, after
 21 increments; rigid: 13). Both: K_I > 0 at every step. Each case runs with da = 5 and
-2.5 mm (h = 5 mm) and must pass the same checks with both (figures: da = 5 mm). Quick
+2.5 mm (h = 5 mm) and must pass the same checks with both (figures: da = 5 mm); with
+2.5 mm the thin path reaches y = 75 at x = 176.8 mm and the bottom at x = 195.6 mm, the
+rigid one ends at (225.1, 92.7) mm, 2.4 mm at most from its chord. Quick
 mode: h = 7.5 mm, one solve per case: the first kink of the thin case turns further down
 than the rigid one's.
 """
