@@ -124,7 +124,7 @@ ORDER = ("patch", "cantilever", "kirsch", "crack_rules", "near_tip", "singular_p
          "shear_edge_crack", "q_functions", "inclined", "fem_reference", "sent", "error_estimate",
          "stability", "freund", "center_crack_dynamic", "wave_diffraction", "kink_angle", "paris",
          "dcb_path", "two_holes", "running_crack", "symmetry", "senb", "mlpg_patch", "mlpg_cantilever",
-         "mlpg_fracture", "many_holes", "tungsten", "fgm_plate")
+         "mlpg_fracture", "many_holes", "tungsten", "fgm_plate", "beam_three_holes", "fillet")
 
 
 def _section(name: str):
