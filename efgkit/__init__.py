@@ -50,10 +50,9 @@ except PackageNotFoundError:  # pragma: no cover - running from a source tree
     __version__ = "0.0.0"
 
 __all__ = [
-    "Crack", "Domain", "DynamicSolution", "EFG", "Elastic", "FEM", "FEMSolution", "Field", "Growth",
-    "Grading", "GrowthStep", "Heaviside", "ImpactPulse", "Linear", "Loop", "MLPG", "MeshlessSolution",
-    "PointSupport",
-    "Pressure", "Ramp", "Rosette", "Scene", "Solution", "Stepping", "Support", "Tabulated", "TipResult",
-    "Traction", "Zone", "__version__", "discretize", "grow", "integrate", "load_scene", "load_study",
-    "solve", "solve_fem",
+    "Crack", "Domain", "DynamicSolution", "EFG", "Elastic", "FEM", "FEMSolution", "Field",
+    "Grading", "Growth", "GrowthStep", "Heaviside", "ImpactPulse", "Linear", "Loop", "MLPG",
+    "MeshlessSolution", "PointSupport", "Pressure", "Ramp", "Rosette", "Scene", "Solution",
+    "Stepping", "Support", "Tabulated", "TipResult", "Traction", "Zone", "__version__",
+    "discretize", "grow", "integrate", "load_scene", "load_study", "solve", "solve_fem",
 ]
