@@ -13,7 +13,9 @@ crack, side by side (seed 002 Eqs. 31-38, seed 000 Eqs. 5.2-5.8):
   ``V = 0`` the kinetic terms cancel, so no velocity is needed) through the velocity
   functions at ``V = 0`` (:func:`~efgkit.fracture.dynamic_tip.dynamic_tip_result`);
 * ``"interaction"``: the interaction integral with the inertia term;
-* ``"stress_0"``, ``"stress_90"``: the near-tip stresses on theta = 0 and 90 degrees;
+* ``"stress_0"``, ``"stress_90"``: the near-tip stresses on theta = 0 and 90 degrees (at
+  90 degrees each mode from its symmetry part of the rays +-90 degrees,
+  :func:`~efgkit.fracture.extrapolation.k_from_symmetric_rays`);
 * ``"J_prime"``: ``(J'_1, J'_2)`` themselves (tip frame, mean over the domains);
 * ``"spread"``: ``(spread_J, spread)``, the domain spreads of the ``J'`` and the
   interaction ``K`` (:class:`~efgkit.fracture.dynamic_tip.DynamicTipResult`).
@@ -58,7 +60,7 @@ import numpy as np
 from scipy.sparse import csr_array, vstack
 
 from ..fracture.dynamic_tip import dynamic_tip_result
-from ..fracture.extrapolation import near_tip_sif, ray_points
+from ..fracture.extrapolation import k_from_symmetric_rays, near_tip_sif, ray_points
 from ..fracture.integrals import FaceLoad
 from ..fracture.sif import face_loads, tip_limits, tip_radii, tip_result
 from ..problem.material import strain_from_gradient
@@ -105,7 +107,7 @@ class TipOperators:
             vals = [csr_array(g[sel]) for g in nodal.u_operators()]
             # 1-6 spacings, closer where the free disc about the tip is smaller than 6.7 h
             r = min(h, 0.9 * min(tip_limits(scene, tip).values()) / 6) * np.arange(1.0, 7.0)
-            rays = {th: _grad_op(disc, ray_points(tip, r, th)) for th in (0.0, np.pi / 2)}
+            rays = {th: _grad_op(disc, ray_points(tip, r, th)) for th in (0.0, np.pi / 2, -np.pi / 2)}
             faces = {}
 
             def gradient(xs, side, faces=faces):  # records the face operators at the first call
@@ -164,11 +166,13 @@ class TipOperators:
         return replace(d["face0"], grad_u=grads)
 
     def _near_tip(self, d: dict, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        out = []
-        for th in (0.0, np.pi / 2):
-            s = strain_from_gradient(_grad(d["rays"][th], u)) @ self.D.T
-            out.append(near_tip_sif(d["tip"], d["r"], s, th))
-        return out[0], out[1]
+        """theta = 0: seed 000 Eq. 5.2 (and its mode II row); theta = 90 deg: each mode from
+        its symmetry part of the rays +-90 deg (:func:`k_from_symmetric_rays`; Eq. 5.3 is
+        its sigma_22 row). Both: mean of the two points nearest the tip (seed 000 Fig. 8)."""
+        s = {th: strain_from_gradient(_grad(d["rays"][th], u)) @ self.D.T for th in d["rays"]}
+        KI, KII = k_from_symmetric_rays(d["tip"], d["r"], s[np.pi / 2], s[-np.pi / 2])
+        return (np.array(near_tip_sif(d["tip"], d["r"], s[0.0], 0.0)),
+                np.array([KI[:2].mean(), KII[:2].mean()]))
 
     def estimates(self, u: np.ndarray) -> dict:
         """``{"interaction", "stress_0", "stress_90"}: (n_tips, 2)`` for coefficients ``u``
@@ -325,7 +329,8 @@ def quasi_static_dsif(dyn, u: np.ndarray, v: np.ndarray, a: np.ndarray, t: float
       :meth:`Solution.sifs` (10, 12.5, 15 spacings, :func:`efgkit.fracture.sif.tip_result`,
       without the error estimate); no inertia term;
     * ``"stress_0"``, ``"stress_90"``: from the near-tip stresses on theta = 0 and 90
-      degrees, mean of the two points nearest the tip (seed 000 Eqs. 5.2-5.5).
+      degrees (the rays +-90 degrees, as :data:`dynamic_dsif`), mean of the two points
+      nearest the tip (seed 000 Eqs. 5.2-5.5).
 
     ``v`` and ``a`` are unused (:data:`dynamic_dsif` uses ``a``). The domain-spread warnings
     of the static integral are silenced: they fire at every instant before the waves
