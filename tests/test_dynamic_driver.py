@@ -48,6 +48,8 @@ def test_default_hook_gives_every_estimate_side_by_side(run):
     assert all(v.shape == (n, 1, 2) and np.all(np.isfinite(v)) for v in s.values())
     # mode I by symmetry: K_II of J' and interaction vanish to rounding
     assert np.abs(s["interaction"][:, 0, 1]).max() < 1e-9 * np.abs(s["interaction"][:, 0, 0]).max()
+    # near-tip stresses at 90 degrees: the mode II part of the rays +-90 degrees is zero
+    assert np.abs(s["stress_90"][:, 0, 1]).max() < 1e-9 * np.abs(s["stress_90"][:, 0, 0]).max()
     # J'_1 = (kappa + 1) / (8 mu) K_I^2 at V = 0 (seed 002 Eqs. 33, 35)
     m = MAT
     assert np.allclose(s["J_prime"][:, 0, 0], (m.kappa + 1) / (8 * m.mu) * s["J"][:, 0, 0] ** 2,

@@ -193,5 +193,6 @@ def markdown(r: dict) -> list[str]:
             "small in these discs (0.1-0.15 L about a stationary tip).",
             "", *terms, "",
             "Enrichment (its unknowns take the diagonal of their consistent mass): the "
-            "enriched tips lower the critical step and make K oscillate about the exact "
-            "history.", "", *enr]
+            "enriched tips lower the critical step; the J' hook corrects the nodal "
+            "accelerations only (efgkit.explicit.dsif), the enrichment unknowns keep the "
+            "driver's.", "", *enr]

@@ -18,7 +18,6 @@ positive for every unknown that is non-zero somewhere (docs/theory.md, "Lumped m
 from __future__ import annotations
 
 import numpy as np
-
 from scipy.sparse import csr_array, diags_array
 
 from ..approx.shape import Shape
