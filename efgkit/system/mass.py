@@ -22,16 +22,19 @@ from scipy.sparse import csr_array, diags_array
 
 from ..approx.shape import Shape
 
-__all__ = ["MassError", "consistent_mass", "row_sum_mass"]
+__all__ = ["ENRICHMENT_MASSES", "MassError", "consistent_mass", "row_sum_mass"]
 
 
 class MassError(ValueError):
     """A lumped mass is not positive, or the masses do not add up to rho times the area."""
 
 
+ENRICHMENT_MASSES = ("diagonal", "abs_row_sum")
+
+
 def row_sum_mass(shape: Shape, w: np.ndarray, rho: float, area: float | None = None,
                  node_x: np.ndarray | None = None, test: Shape | None = None,
-                 rtol: float = 1e-6) -> np.ndarray:
+                 rtol: float = 1e-6, enrichment: str = "diagonal") -> np.ndarray:
     """Diagonal lumped mass, shape (n_dofs,) in the DOF order of ``shape`` (2 I + c, then
     the enrichment unknowns), seed 002 Eqs. (25)-(27) (module docstring).
 
@@ -54,6 +57,15 @@ def row_sum_mass(shape: Shape, w: np.ndarray, rho: float, area: float | None = N
         checked then.
     rtol : float
         Tolerance of the total-mass check.
+    enrichment : {"diagonal", "abs_row_sum"}
+        Mass of the enrichment unknowns: the diagonal of their consistent mass (module
+        docstring), or the row sum of its absolute values over every unknown,
+        ``M_e = sum_b |M_C,eb|`` (:func:`consistent_mass`), which bounds the eigenvalues of
+        ``M^-1 M_C`` on those rows by 1 (Gershgorin) and keeps the enrichment from lowering
+        the critical step. Measured on ``verification/freund.py`` (spacing 0.01): with
+        PU enrichment the critical step goes from 0.0023 to 0.0118 (the unenriched one) and
+        the error of K_I(t) from 4.4 % to 0.88 %; with extrinsic MLS from 0.0088 to 0.0118
+        and from 0.44 % to 0.61 %.
 
     Raises
     ------
@@ -81,7 +93,14 @@ def row_sum_mass(shape: Shape, w: np.ndarray, rho: float, area: float | None = N
     contrib = rho * (w * pu)[:, None] * test.values * nb.mask
     m_nodal = np.bincount(nb.idx[nb.mask], contrib[nb.mask], minlength=test.n_functions)
     parts = [np.repeat(m_nodal, 2)]
-    if shape.extra is not None:
+    if enrichment not in ENRICHMENT_MASSES:
+        raise ValueError(f"enrichment must be one of {ENRICHMENT_MASSES} (the mass of the "
+                         f"enrichment unknowns), got {enrichment!r}")
+    if shape.extra is not None and enrichment == "abs_row_sum":
+        n2 = 2 * shape.n_functions
+        M = abs(consistent_mass(shape, w, rho)).tocsr()[n2:]
+        parts.append(np.asarray(M.sum(axis=1)).ravel())
+    elif shape.extra is not None:
         e = shape.extra
         m_extra = rho * (w @ (e.ux.multiply(e.ux)) + w @ (e.uy.multiply(e.uy)))
         parts.append(np.asarray(m_extra).ravel())
