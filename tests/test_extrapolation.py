@@ -142,3 +142,42 @@ def test_bad_input():
         k_from_cod(TIP, r, np.zeros((2, 3)), np.zeros((2, 2)), M)
     with pytest.raises(TypeError, match="material must be an Elastic"):
         k_from_cod(TIP, r, williams_face(1), williams_face(-1), None)
+
+
+def test_symmetric_rays_separate_the_modes():
+    # Williams K_I = 2, K_II = -0.5 (exact by construction) plus a perturbation with the
+    # mode I symmetry (sigma_22 even, sigma_12 odd in theta, growing like r^(1/2), as the
+    # higher mode I terms): the single-ray 2 x 2 solve at 90 deg passes it into K_II, the
+    # symmetry parts keep it in K_I alone
+    from efgkit.fracture.extrapolation import k_from_symmetric_rays
+    from efgkit.problem.exact.williams import williams_stress
+
+    t = Tip(np.zeros(2), 0.0, "c", 1)
+    r = np.array([0.01, 0.02, 0.04])
+
+    def field(th):  # a mode I perturbation: even sigma_22, odd sigma_12, growing like r^(1/2)
+        s = williams_stress(r, th, 2.0, -0.5)
+        s[:, 1] += 3.0 * np.sqrt(r) * np.cos(th)
+        s[:, 2] += 3.0 * np.sqrt(r) * np.sin(th)
+        return s
+
+    KI, KII = k_from_symmetric_rays(t, r, field(np.pi / 2), field(-np.pi / 2))
+    assert np.allclose(KII, -0.5, rtol=0, atol=1e-12)
+    _, KII_single = k_from_stress(t, r, field(np.pi / 2), np.pi / 2)
+    assert np.abs(KII_single + 0.5).max() > 0.1  # the single ray leaks mode I into K_II
+    exact = williams_stress(r, np.pi / 2, 2.0, -0.5)
+    KI0, _ = k_from_symmetric_rays(t, r, exact, williams_stress(r, -np.pi / 2, 2.0, -0.5))
+    assert np.allclose(KI0, 2.0, rtol=1e-12)
+
+
+@pytest.mark.parametrize("theta, shape, match", [
+    (0.0, (3, 3), r"theta must lie in \(0, pi\)"),
+    (np.pi, (3, 3), r"theta must lie in \(0, pi\)"),
+    (np.pi / 2, (2, 3), r"stress_plus must have shape \(3, 3\)"),
+])
+def test_symmetric_rays_errors(theta, shape, match):
+    from efgkit.fracture.extrapolation import k_from_symmetric_rays
+
+    t = Tip(np.zeros(2), 0.0, "c", 1)
+    with pytest.raises(ValueError, match=match):
+        k_from_symmetric_rays(t, [0.1, 0.2, 0.3], np.zeros(shape), np.zeros((3, 3)), theta)

@@ -100,8 +100,15 @@ def run(case: str, method: str, nx: int, ny: int, dt: float, duration: float,
     t0 = time.perf_counter()
     dyn = dynamics(sc, m)
     dtc, lam = stable_step(dyn)
+    hook = DynamicDSIF(radii=radii, domains=True)  # inertia with the recovered acceleration
+    lumped, lumped_J = DynamicDSIF(radii=radii, domains=True, mass_iterations=0), []
+
+    def both(dyn, u, v, a, t):  # the lumped-mass acceleration on the same states, J' only
+        lumped_J.append(lumped(dyn, u, v, a, t)["J_prime_domains"][0, :, 0])
+        return hook(dyn, u, v, a, t)
+
     sol = integrate(sc, m, Stepping(dt=dt, output_interval=every), dyn=dyn, critical=(dtc, lam),
-                    dsif=DynamicDSIF(radii=radii, domains=True))
+                    dsif=both)
     t = sol.t
     mat = sc.material
     norm = LOAD * math.sqrt(math.pi * A0)
@@ -126,6 +133,8 @@ def run(case: str, method: str, nx: int, ny: int, dt: float, duration: float,
     dep = (Jd[big].max(axis=1) - Jd[big].min(axis=1)) / np.abs(Jd[big, len(radii) // 2])
     out["path_dependence"] = float(dep.max())
     out["J1_domains"] = Jd
+    Jl = np.array(lumped_J)[big]
+    out["path_dependence_lumped"] = float(np.max(np.ptp(Jl, axis=1) / np.abs(Jl[:, len(radii) // 2])))
     if case == "mode_I":
         ta = HALF_H / mat.c_dilatational
         win = (t > ta + 0.5 * 2 * A0 / mat.c_dilatational) & (t < ta + 2 * A0 / mat.c_dilatational)
@@ -225,13 +234,13 @@ def main(quick: bool = False, out_dir=None) -> dict:
     finest = list(grids)[-1]
     for key, v in m["path_dependence"].items():
         if finest in key or quick:
-            # quick: 2 mm spacing, radii 4-8 mm; measured 4.8 %
+            # quick: 2 mm spacing, radii 4-8 mm; measured 2.0 % (lumped acceleration: 4.8 %)
             rep.check(f"{key}: path dependence of J' over the radii", v, "<=",
-                      0.1 if quick else TARGET)
+                      0.06 if quick else TARGET)
     for key, r in m["runs"].items():
         if "early_time_error" in r:
             rep.check(f"{key}: K_J against Freund's step-wave K_I (early-time window)",
-                      r["early_time_error"]["J"], "<=", 0.12 if quick else 0.05)  # quick: 4.3 %
+                      r["early_time_error"]["J"], "<=", 0.12 if quick else 0.05)  # quick: 7.4 %
     m["settings"] = {"plate_mm": [2 * HALF_W, 2 * HALF_H], "a0_mm": A0, "load_MPa": LOAD,
                      "rho": RHO, "units": "mm, N, MPa, tonne/mm^3, s", "radii_mm": radii,
                      "d_max": 2.5, "grids": {g: list(v[:2]) + [v[2] / US] for g, v in grids.items()},
@@ -252,7 +261,7 @@ def markdown(r: dict) -> list[str]:
     s = m["settings"]
     rows = ["| run | dt (us) | dt_c (us) | peak K/(s0 sqrt(pi a0)): J' / interaction / stress 0 / "
             "stress 90 (t us) | first felt (J', stress 0) / travel time (us) | path dependence "
-            "| early-time error (J', interaction) |", "|---|---|---|---|---|---|---|"]
+            "(lumped acceleration) | early-time error (J', interaction) |", "|---|---|---|---|---|---|---|"]
     for key, v in m["runs"].items():
         if key.startswith("slanted"):
             continue
@@ -263,7 +272,7 @@ def markdown(r: dict) -> list[str]:
         early = "-" if not et else f"{et['J']:.1%}, {et['interaction']:.1%}"
         rows.append(f"| {key} | {v['dt_us']:g} | {v['dt_critical_us']:.3f} | {pk} | "
                     f"{ff['J']}, {ff['stress_0']} / {v['travel_time_us']:.2f} | "
-                    f"{v['path_dependence']:.2%} | {early} |")
+                    f"{v['path_dependence']:.2%} ({v['path_dependence_lumped']:.2%}) | {early} |")
     return [f"Plate {s['plate_mm'][0]:g} x {s['plate_mm'][1]:g} mm, a0 = {s['a0_mm']:g} mm, step "
             f"load {s['load_MPa']} MPa on top and bottom; units {s['units']}; d_max "
             f"{s['d_max']}, no enrichment or zones; J' discs R = {s['radii_mm']} mm; histories "
@@ -271,6 +280,9 @@ def markdown(r: dict) -> list[str]:
             "exceeds 0.01 (the meshless supports and the explicit step let a small precursor "
             "run ahead of the front, so it comes before the travel time, 20 mm / c_d in mode I "
             "and 20 mm / c_s in mode II, and moves towards it as the grid is refined). "
+            "Path dependence: J'_1 with the inertia term on the recovered acceleration (4 "
+            "Jacobi steps towards the consistent-mass one, efgkit.explicit.dsif), in brackets "
+            "with the driver's lumped-mass acceleration on the same states. "
             "Early-time error: against Freund's K_I for the doubled step stress "
             "(module docstring), second half of the window before the other tip's wave.",
             "", *rows, *_slanted_lines(m)]

@@ -51,7 +51,7 @@ from ..problem.scene import Scene
 from ..static import DEFAULT_PENALTY, DEFAULT_STABILISATION
 from ..system.assemble import stiffness
 from ..system.constraints import lagrange, modified_variational, penalty
-from ..system.mass import row_sum_mass
+from ..system.mass import ENRICHMENT_MASSES, row_sum_mass
 from .moving import split_values, still_scene
 
 __all__ = ["Dynamics", "Projection", "dynamics", "fit_coefficients", "local_dynamics"]
@@ -204,8 +204,13 @@ def fit_coefficients(disc: Discretization, u) -> np.ndarray:
     return c
 
 
-def dynamics(scene: Scene, method: EFG | MLPG, disc: Discretization | None = None) -> Dynamics:
+def dynamics(scene: Scene, method: EFG | MLPG, disc: Discretization | None = None,
+             enrichment_mass: str = "diagonal") -> Dynamics:
     """Assemble ``M u'' + K u = f(t)`` for ``scene`` (module docstring).
+
+    ``enrichment_mass``: the lumped mass of EFG enrichment unknowns,
+    :func:`~efgkit.system.mass.row_sum_mass` ``enrichment`` (``"abs_row_sum"`` keeps the
+    unenriched critical step).
 
     Raises
     ------
@@ -223,6 +228,9 @@ def dynamics(scene: Scene, method: EFG | MLPG, disc: Discretization | None = Non
     if scene.material.rho is None:
         raise ValueError(f"scene {scene.name!r}: a dynamic run needs the mass density: give "
                          "Elastic(..., rho=...) (the [material] key rho in a scene file)")
+    if enrichment_mass not in ENRICHMENT_MASSES:
+        raise ValueError(f"enrichment_mass must be one of {ENRICHMENT_MASSES}, got "
+                         f"{enrichment_mass!r}")
     if isinstance(method, MLPG):
         return local_dynamics(scene, method, disc)
     bc_auto = method.bc == "auto"
@@ -243,7 +251,8 @@ def dynamics(scene: Scene, method: EFG | MLPG, disc: Discretization | None = Non
     t0 = time.perf_counter()
     wr = density_weights(scene, disc.points.x, disc.points.w)  # graded: int rho(x) = rho sum wr
     m = row_sum_mass(disc.shape, wr, mat.rho, node_x=disc.nodes.x, test=test,
-                     area=scene.domain.area if scene.grading is None else float(wr.sum()))
+                     area=scene.domain.area if scene.grading is None else float(wr.sum()),
+                     enrichment=enrichment_mass)
     timings["mass"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     parts = _load_scenes(scene)
