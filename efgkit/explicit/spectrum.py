@@ -15,7 +15,7 @@ from scipy.sparse.linalg import LinearOperator, eigs, eigsh
 
 from .system import Dynamics
 
-__all__ = ["growth_rate", "row_symbol", "stable_step"]
+__all__ = ["dense_operator", "growth_rate", "row_symbol", "stable_step"]
 
 
 def _operator(dyn: Dynamics):
@@ -43,6 +43,14 @@ def _operator(dyn: Dynamics):
 
     symmetric = abs(K - K.T).max() <= 1e-10 * abs(K).max()  # Petrov-Galerkin (MLPG) K is not
     return apply, symmetric, dense
+
+
+def dense_operator(dyn: Dynamics) -> np.ndarray:
+    """``A = Q M^-1/2 K M^-1/2 Q`` as a dense array (n_dofs, n_dofs), with ``Q`` the
+    projector of :func:`stable_step` (the eigenvalues of ``A`` on the moving unknowns are
+    those of ``M^-1 K`` on the admissible motions). For small models only.
+    Rows and columns of fixed coefficients (``minv == 0``) are zero."""
+    return _operator(dyn)[2]()
 
 
 def stable_step(dyn: Dynamics, tol: float = 1e-8, dense_below: int = 400) -> tuple[float, float]:
