@@ -14,5 +14,6 @@ from .spectrum import dense_operator, growth_rate, row_symbol, stable_step
 from .system import Dynamics, dynamics, fit_coefficients
 
 __all__ = ["BLOWUP_FACTOR", "DynamicDSIF", "DynamicSolution", "Dynamics", "InstabilityError", "State",
-           "dense_operator", "dynamic_dsif", "dynamics", "fit_coefficients", "growth_rate", "initial_state", "integrate",
-           "load_stepping", "quasi_static_dsif", "row_symbol", "stable_step"]
+           "dense_operator", "dynamic_dsif", "dynamics", "fit_coefficients", "growth_rate",
+           "initial_state", "integrate", "load_stepping", "quasi_static_dsif", "row_symbol",
+           "stable_step"]
