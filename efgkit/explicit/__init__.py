@@ -10,9 +10,10 @@ stresses); ``result`` holds the histories (:class:`DynamicSolution`).
 from .dsif import DynamicDSIF, dynamic_dsif, quasi_static_dsif
 from .integrate import BLOWUP_FACTOR, InstabilityError, State, initial_state, integrate, load_stepping
 from .result import DynamicSolution
-from .spectrum import growth_rate, stable_step
+from .spectrum import dense_operator, growth_rate, row_symbol, stable_step
 from .system import Dynamics, dynamics, fit_coefficients
 
 __all__ = ["BLOWUP_FACTOR", "DynamicDSIF", "DynamicSolution", "Dynamics", "InstabilityError", "State",
-           "dynamic_dsif", "dynamics", "fit_coefficients", "growth_rate", "initial_state", "integrate",
-           "load_stepping", "quasi_static_dsif", "stable_step"]
+           "dense_operator", "dynamic_dsif", "dynamics", "fit_coefficients", "growth_rate",
+           "initial_state", "integrate", "load_stepping", "quasi_static_dsif", "row_symbol",
+           "stable_step"]

@@ -2,7 +2,9 @@
 
 :func:`stable_step` gives ``dt_c = 2 / omega_max`` (seed 002 Eqs. 29-30) from the assembled
 matrices of :func:`~efgkit.explicit.system.dynamics`; :func:`growth_rate` the rate of the
-fastest-growing mode of an unsymmetric (MLPG1) K, which no step size removes.
+fastest-growing mode of an unsymmetric (MLPG1) K, which no step size removes;
+:func:`row_symbol` the Fourier symbol of one row of ``M^-1 K``, whose sign away from the
+boundary tells where such modes come from (docs/theory.md, "Explicit MLPG").
 """
 
 from __future__ import annotations
@@ -13,7 +15,7 @@ from scipy.sparse.linalg import LinearOperator, eigs, eigsh
 
 from .system import Dynamics
 
-__all__ = ["growth_rate", "stable_step"]
+__all__ = ["dense_operator", "growth_rate", "row_symbol", "stable_step"]
 
 
 def _operator(dyn: Dynamics):
@@ -41,6 +43,14 @@ def _operator(dyn: Dynamics):
 
     symmetric = abs(K - K.T).max() <= 1e-10 * abs(K).max()  # Petrov-Galerkin (MLPG) K is not
     return apply, symmetric, dense
+
+
+def dense_operator(dyn: Dynamics) -> np.ndarray:
+    """``A = Q M^-1/2 K M^-1/2 Q`` as a dense array (n_dofs, n_dofs), with ``Q`` the
+    projector of :func:`stable_step` (the eigenvalues of ``A`` on the moving unknowns are
+    those of ``M^-1 K`` on the admissible motions). For small models only.
+    Rows and columns of fixed coefficients (``minv == 0``) are zero."""
+    return _operator(dyn)[2]()
 
 
 def stable_step(dyn: Dynamics, tol: float = 1e-8, dense_below: int = 400) -> tuple[float, float]:
@@ -121,3 +131,42 @@ def growth_rate(dyn: Dynamics, lam_max: float | None = None, k: int = 6,
     g[np.abs(ev) <= 1e-10 * lam_max] = 0.0  # the rigid motions' round-off
     i = int(np.argmax(g))
     return float(g[i]), complex(ev[i])
+
+
+def row_symbol(dyn: Dynamics, node: int, wavenumbers: np.ndarray) -> np.ndarray:
+    """Fourier symbol of node ``node``'s rows of ``M^-1 K`` at ``wavenumbers (k, 2)``.
+
+    ``S_pq(xi) = (1 / m_I) sum_J K_{2I+p, 2J+q} exp(i xi . (x_J - x_I))``, shape (k, 2, 2)
+    complex: on a regular grid, away from the boundary, K is translation invariant and
+    ``S`` is the symbol of the semi-discrete operator; its eigenvalues are the ``omega^2``
+    of the plane waves ``exp(i xi . x)`` (for small ``|xi|``: ``E' |xi|^2 / rho`` and
+    ``mu |xi|^2 / rho`` in plane stress, ``E' = E / (1 - nu^2)``). A Bubnov-Galerkin K
+    (EFG) gives a non-negative symbol; MLPG1's row I pairs the test function v_I with the
+    trial functions, ``K_IJ ~ int grad v_I . D grad phi_J``, whose symbol carries the
+    product of their Fourier transforms (summed over the aliases of the grid): where it
+    changes sign, M^-1 K has negative eigenvalues however the body is supported.
+    A central node's symmetric part has real eigenvalues; take ``.real`` of the
+    eigenvalues of ``S`` for its stiffness along ``xi``.
+
+    Examples
+    --------
+    >>> from efgkit import MLPG, Domain, Elastic, Scene
+    >>> from efgkit.explicit import dynamics
+    >>> sc = Scene(Domain.rectangle(0, 0, 1, 1), Elastic(1.0, 0.3, rho=1.0), duration=1.0)
+    >>> dyn = dynamics(sc, MLPG(spacing=0.25, quadrature="midpoint"))
+    >>> S = row_symbol(dyn, 12, np.zeros((1, 2)))   # xi = 0: rigid translations
+    >>> bool(np.abs(S).max() < 1e-10)
+    True
+    """
+    xi = np.asarray(wavenumbers, dtype=float)
+    if xi.ndim != 2 or xi.shape[1] != 2 or not np.all(np.isfinite(xi)):
+        raise ValueError(f"wavenumbers must be finite with shape (k, 2), got shape {xi.shape}")
+    n_nodes = dyn.disc.nodes.n
+    if not (0 <= int(node) < n_nodes and int(node) == node):
+        raise ValueError(f"node must be an index in [0, {n_nodes}), got {node!r}")
+    x = dyn.disc.nodes.x
+    K = dyn.K[:, : 2 * n_nodes]  # nodal unknowns only
+    rows = K[[2 * node, 2 * node + 1]].toarray()  # (2, 2 n_nodes)
+    e = np.exp(1j * (x - x[node]) @ xi.T)  # (n_nodes, k)
+    S = np.stack([[rows[p, q::2] @ e for q in range(2)] for p in range(2)])  # (2, 2, k)
+    return np.moveaxis(S, -1, 0) / dyn.m[2 * node]
