@@ -26,11 +26,16 @@ Choices where the seed is silent (the units of x, the plate's size, Fig. 22 is m
 
 Results (full mode, 5,664 nodes): the crack starts at 36.6 us (seed: about 90 us; our plate
 is not the seed's: the P wave reaches the crack line at 27 us) and accelerates from about
-620 m/s to 4,400 m/s as it runs into the stiffer, lighter material (the local Rayleigh speed
-grows five-fold across the plate), a least-squares mean of 1,589 m/s (seed 822 m/s,
-experiment 600-700 m/s); the fitted speed exceeds the local c_R by up to 4 % (the
-check fails; the release criterion at the next node does not bound the speed, as in
-``tungsten.py`` at 1000/s).
+620 m/s to 4,400 m/s as it runs into the stiffer, lighter material (the local Rayleigh speed,
+taken at the tip, grows five-fold across the plate), a least-squares mean of 1,589 m/s (seed
+822 m/s, experiment 600-700 m/s); with the seed's release (at once) the fitted speed
+exceeds the local c_R by up to 2.3 % (the check fails; 4 % with growth instants on whole
+steps; docs/theory.md, "Nodal release": the overdriven discrete crack released at once
+settles at about c_R). Sensitivity, not checked: the cohesive release
+(:mod:`efgkit.growth.cohesive`, delta_c = 4 pi h sigma_c(x) / E(x); physics, not the seed)
+starts at the same 36.6 us, runs at a mean 1,421 m/s and stays below 0.97 local c_R. The
+plate's size is not in the seed, and a search of public sources for the size of Shukla and
+Jain's specimen found none: it stays our choice.
 
 Grid: zones over the crack line like the tungsten plate's (``tungsten.py``): spacings h0,
 2 h0, 4 h0, 8 h0 in bands 0-2, 2-6, 6-16, 16-50 mm, h0 = W / 360 (the seed's 360 particles
@@ -142,8 +147,8 @@ def main(quick: bool = False, out_dir=None) -> dict:
     rep.check("initiation after the P wave from the pulled edge reaches the crack (us)",
               r["initiation_us"] - arrival, ">=", 0.0)
     rep.check("the crack runs: releases", r["releases"], ">=", 10)
-    if not quick:  # on the quick grid (2.2 mm on the line) the speed means little: 1.17 c_R
-        # measured 1.04 on the seed's 360 particles across: the check fails (module docstring)
+    if not quick:  # on the quick grid (2.2 mm on the line) the speed means little: 1.16 c_R
+        # measured 1.023 on the seed's 360 particles across: the check fails (module docstring)
         rep.check("max LSQ speed / local c_R", r["max_speed_over_local_c_R"], "<=", 1.0)
     rep.ref("initiation_us", SEED["initiation_us"], "seed 000 Sect. 5.2.3 (Fig. 23): about 90 us")
     rep.ref("speed_m_s", SEED["speed_m_s"], "seed 000 Sect. 5.2.3: 822 m/s (LSQ slope of Fig. 23)")
