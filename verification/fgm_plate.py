@@ -26,11 +26,16 @@ Choices where the seed is silent (the units of x, the plate's size, Fig. 22 is m
 
 Results (full mode, 5,664 nodes): the crack starts at 36.6 us (seed: about 90 us; our plate
 is not the seed's: the P wave reaches the crack line at 27 us) and accelerates from about
-620 m/s to 4,400 m/s as it runs into the stiffer, lighter material (the local Rayleigh speed
-grows five-fold across the plate), a least-squares mean of 1,589 m/s (seed 822 m/s,
-experiment 600-700 m/s); the fitted speed exceeds the local c_R by up to 4 % (the
-check fails; the release criterion at the next node does not bound the speed, as in
-``tungsten.py`` at 1000/s).
+620 m/s to 4,400 m/s as it runs into the stiffer, lighter material (the local Rayleigh speed,
+taken at the tip, grows five-fold across the plate), a least-squares mean of 1,589 m/s (seed
+822 m/s, experiment 600-700 m/s); with the seed's release (at once) the fitted speed
+exceeds the local c_R by up to 2.3 % (the check fails; 4 % with growth instants on whole
+steps; docs/theory.md, "Nodal release": the overdriven discrete crack released at once
+settles at about c_R). Sensitivity, not checked: the cohesive release
+(:mod:`efgkit.growth.cohesive`, delta_c = 4 pi h sigma_c(x) / E(x); physics, not the seed)
+starts at the same 36.6 us, runs at a mean 1,421 m/s and stays below 0.97 local c_R. The
+plate's size is not in the seed, and a search of public sources for the size of Shukla and
+Jain's specimen found none: it stays our choice.
 
 Grid: zones over the crack line like the tungsten plate's (``tungsten.py``): spacings h0,
 2 h0, 4 h0, 8 h0 in bands 0-2, 2-6, 6-16, 16-50 mm, h0 = W / 360 (the seed's 360 particles
@@ -46,6 +51,7 @@ import numpy as np
 from _report import Report
 
 from efgkit import EFG, Domain, Elastic, Linear, Scene, Support
+from efgkit.growth.cohesive import critical_opening
 from efgkit.growth.release import LineRelease, run_release
 from efgkit.problem.expression import Expression
 from efgkit.problem.graded import Grading
@@ -94,21 +100,31 @@ def c_rayleigh(x: np.ndarray) -> np.ndarray:
     return material().c_rayleigh / 1e3 * np.exp(0.5 * (1.76 + 1.52) * np.asarray(x) / W)
 
 
-def run(f: float, duration: float) -> dict:
+def run(f: float, duration: float, cohesive: bool = False) -> dict:
+    """One run on the grid scaled by ``f``; ``cohesive``: the released support softens over
+    the critical opening the criterion implies, ``4 pi h sigma_c(x) / E(x)``
+    (:mod:`efgkit.growth.cohesive`), instead of vanishing at once (the seed's release)."""
     x = nodes(f)
     h = H0 * f
     m = EFG(spacing=h, coordinates=x, d_max=2.0, zones=(), enrichment="none",
             quadrature="triangles", bc="lagrange")
     sc = Scene(Domain.rectangle(0.0, 0.0, W, H), material(), grading=grading(), duration=duration,
                supports=(Support("top", uy=V0, history=Linear()),))
-    rule = LineRelease(lambda p: 2 * toughness(p) / math.sqrt(2 * math.pi * h), A)
+    def sigma_c(p):
+        return 2 * toughness(p) / math.sqrt(2 * math.pi * h)
+
+    def opening(p):  # plane stress: E' = E(x)
+        return critical_opening(sigma_c(p), h, material().E * np.exp(1.76 * p[:, 0] / W))
+
+    rule = LineRelease(sigma_c, A, opening=opening if cohesive else 0.0)
     t0 = time.perf_counter()
     r = run_release(sc, m, rule, Stepping(output_interval=1.0 * US), max_length=0.95 * W)
     t, a, v = r.t / US, r.length, r.speed / 1e3
     grow = np.isfinite(v)
     fit = float(np.polyfit(t[grow], a[grow], 1)[0] * 1e3) if grow.sum() >= 2 else math.nan  # mm/us -> m/s
     over = v[grow] / c_rayleigh(a[grow]) if grow.any() else np.zeros(0)
-    return {"f": f, "nodes": len(x), "h_mm": h, "t_us": t, "length_mm": a, "speed_m_s": v,
+    return {"f": f, "nodes": len(x), "h_mm": h, "release": "cohesive" if cohesive else "at once",
+            "t_us": t, "length_mm": a, "speed_m_s": v,
             "initiation_us": float(t[1]) if len(t) > 1 else math.nan,
             "mean_speed_m_s": fit, "max_speed_over_local_c_R": float(over.max()) if len(over) else 0.0,
             "releases": len(r.releases["t"]), "history_t_us": r.history["t"] / US,
@@ -125,13 +141,14 @@ def _lists(obj):
 def main(quick: bool = False, out_dir=None) -> dict:
     rep = Report(NAME, quick)
     r = run(8.0, 150 * US) if quick else run(1.0, 250 * US)
-    rep.metrics.update(_lists({"run": r, "plate_mm": [W, 2 * H], "a_mm": A}))
+    coh = {} if quick else run(1.0, 250 * US, cohesive=True)  # sensitivity, not checked
+    rep.metrics.update(_lists({"run": r, "cohesive": coh, "plate_mm": [W, 2 * H], "a_mm": A}))
     arrival = H / material().c_dilatational / US  # us: the P wave at x = 0, the slowest
     rep.check("initiation after the P wave from the pulled edge reaches the crack (us)",
               r["initiation_us"] - arrival, ">=", 0.0)
     rep.check("the crack runs: releases", r["releases"], ">=", 10)
-    if not quick:  # on the quick grid (2.2 mm on the line) the speed means little: 1.17 c_R
-        # measured 1.04 on the seed's 360 particles across: the check fails (module docstring)
+    if not quick:  # on the quick grid (2.2 mm on the line) the speed means little: 1.16 c_R
+        # measured 1.023 on the seed's 360 particles across: the check fails (module docstring)
         rep.check("max LSQ speed / local c_R", r["max_speed_over_local_c_R"], "<=", 1.0)
     rep.ref("initiation_us", SEED["initiation_us"], "seed 000 Sect. 5.2.3 (Fig. 23): about 90 us")
     rep.ref("speed_m_s", SEED["speed_m_s"], "seed 000 Sect. 5.2.3: 822 m/s (LSQ slope of Fig. 23)")
@@ -154,5 +171,8 @@ def markdown(r: dict) -> list[str]:
             "| releases | stop |", "|---|---|---|---|---|---|",
             f"| efgkit | {_f(x['initiation_us'], '.1f')} | {_f(x['mean_speed_m_s'], '.0f')} | "
             f"{_f(x['max_speed_over_local_c_R'], '.2f')} | {x['releases']} | {x['stop']} |",
+            *([f"| efgkit, cohesive release (not the seed's) | {_f(c['initiation_us'], '.1f')} | "
+               f"{_f(c['mean_speed_m_s'], '.0f')} | {_f(c['max_speed_over_local_c_R'], '.2f')} | "
+               f"{c['releases']} | {c['stop']} |"] if (c := r["metrics"].get("cohesive")) else []),
             "| seed 000 (MSPH) | about 90 | 822 | - | - | - |",
             "| Shukla and Jain (experiment) | - | 600-700 | - | - | - |"]

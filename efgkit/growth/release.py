@@ -29,6 +29,14 @@ least-squares slope over 11 points (:func:`~efgkit.growth.running_tip.speed_fit`
 a split particle) has no counterpart here: the two faces of a symmetric model are mirror
 images, the released node moves off the line freely.
 
+Release of the support: at once, as the seed (``opening = 0``), or softening with the
+segment's opening, a linear cohesive law (``opening > 0``, :mod:`efgkit.growth.cohesive`).
+
+When the criterion was met: sigma_1 at a released node interpolated linearly in time
+between the previous check and this one (``interpolate``, default); the release acts at
+the check. Without it the growth instants are multiples of the step and the 11-point fit
+jumps between h / dt and h / 2 dt (3981 and 1990 m/s on the tungsten plate).
+
 The step is ``safety`` times the critical step of the system without any line constraint
 (releasing constraints can only raise omega_max: the bound holds for every crack state).
 """
@@ -47,7 +55,9 @@ from ..explicit import State, dynamics, integrate, stable_step
 from ..explicit.system import Projection
 from ..problem.history import Stepping
 from ..problem.material import strain_from_gradient
+from .cohesive import Softening
 from .dynamic import principal_stress
+from .release_rules import release_segments
 from .running_tip import speed_fit
 
 __all__ = ["LineRelease", "Released", "release_segments", "run_release"]
@@ -61,7 +71,12 @@ class LineRelease:
     every ``check_every`` steps; ``a0``: the initial crack, open from the line's first
     node (smallest x, the centre of the body) over ``a0`` (rounded to the nearest node);
     ``cracks``: further initial cracks on the line, ``((x_start, x_end), ...)`` (ends
-    rounded to the nearest nodes); nodes within ``tol`` of ``y0`` are on the line."""
+    rounded to the nearest nodes); nodes within ``tol`` of ``y0`` are on the line;
+    ``opening``: the critical opening delta_c of the linear softening of a released
+    segment's support force (length units; a callable ``x (m, 2) -> (m,)`` as sigma_c,
+    taken at the segment's right node; 0: released at once, as seed 000), module docstring;
+    ``interpolate``: growth instants at the time sigma_1 crossed sigma_c (linear between
+    checks) instead of the check's step."""
 
     sigma_c: float | Callable
     a0: float
@@ -69,6 +84,8 @@ class LineRelease:
     check_every: int = 1
     tol: float = 1e-9
     cracks: tuple = ()
+    opening: float | Callable = 0.0
+    interpolate: bool = True
 
     def __post_init__(self):
         for name in ("a0",) if callable(self.sigma_c) else ("sigma_c", "a0"):
@@ -80,6 +97,11 @@ class LineRelease:
             raise ValueError(f"cracks must be pairs (x_start, x_end) with x_end > x_start, "
                              f"got {self.cracks!r}")
         object.__setattr__(self, "cracks", tuple(map(tuple, c.tolist())))
+        dc = self.opening
+        if not callable(dc) and (isinstance(dc, bool) or not isinstance(dc, (int, float))
+                                 or not math.isfinite(dc) or dc < 0):
+            raise ValueError(f"opening must be a finite number >= 0 (length units of the scene; "
+                             f"0: instantaneous release) or a callable, got {dc!r}")
         if isinstance(self.check_every, bool) or not isinstance(self.check_every, int) \
                 or self.check_every < 1:
             raise ValueError(f"check_every must be an int >= 1 (steps), got {self.check_every!r}")
@@ -160,6 +182,13 @@ class _Line:
         self.fE = np.ones(len(xs)) if g is None else g.factors(on_line)[0]
         sc = rule.sigma_c
         self.sigma_c = np.broadcast_to(np.asarray(sc(on_line) if callable(sc) else sc, float), (len(xs),))
+        dc = rule.opening
+        self.opening = np.broadcast_to(np.asarray(dc(on_line) if callable(dc) else dc, float), (len(xs),))
+        if not np.all(np.isfinite(self.opening) & (self.opening >= 0)):
+            k = int(np.flatnonzero(~(np.isfinite(self.opening) & (self.opening >= 0)))[0])
+            raise ValueError(f"opening is {float(self.opening[k])!r} at the line's node "
+                             f"x = {float(xs[k])!r}: the critical opening must be finite and >= 0 "
+                             "at every node")
         if not np.all(np.isfinite(self.sigma_c) & (self.sigma_c > 0)):
             k = int(np.flatnonzero(~(np.isfinite(self.sigma_c) & (self.sigma_c > 0)))[0])
             raise ValueError(f"sigma_c is {float(self.sigma_c[k])!r} at the line's node "
@@ -211,7 +240,17 @@ class _Line:
                       shape=(m, 2 * (m - 1)))
         G = csr_array(S @ self.B)
         used = np.flatnonzero(np.diff(G.indptr) > 0)
+        self.used = used  # the hats of the rows returned
         return csr_array(G[used])
+
+    def segment_forces(self, lam: np.ndarray, segments: np.ndarray) -> np.ndarray:
+        """The force the support exerted on each of ``segments`` (indices into the
+        segments), ``-int_seg lambda(x) u_y dx`` with ``lambda = sum_k lam_k N_k`` (``lam``:
+        one multiplier per row of the last :meth:`rows`), shape (n_dofs, len(segments))."""
+        node = np.zeros(len(self.x))
+        node[self.used] = lam
+        j = np.asarray(segments, int)
+        return -(self.B[2 * j].toarray() * node[j, None] + self.B[2 * j + 1].toarray() * node[j + 1, None]).T
 
     def sigma1(self, u) -> np.ndarray:
         s = strain_from_gradient(self.shape.gradient(u)) @ self.D.T
@@ -220,59 +259,6 @@ class _Line:
     def release(self, s1: np.ndarray, sigma_c) -> list[tuple[float, bool]]:
         """Open the segments of the nodes where ``s1 >= sigma_c``: ``[(x, new_crack)]``."""
         return [(float(self.x[k]), new) for k, new in release_segments(self.open, s1, sigma_c)]
-
-
-def release_segments(open_: np.ndarray, sigma1: np.ndarray, sigma_c) -> list[tuple[int, bool]]:
-    """Nodal release on a line (seed 000 Fig. 15), in place on ``open_``.
-
-    Parameters
-    ----------
-    open_ : ndarray (m - 1,) bool
-        Segment ``j`` joins nodes ``j`` and ``j + 1``; True: open (crack face). Modified.
-    sigma1 : ndarray (m,)
-        Maximum principal stress at the nodes.
-    sigma_c : float or ndarray (m,)
-
-    Returns
-    -------
-    list of (node index, new_crack)
-        The released nodes, by increasing index: a bonded node (both segments closed, not
-        an end of the line) with ``sigma1 >= sigma_c``. Next to a tip on one side (node
-        ``k - 1`` ends an open stretch: segment ``k - 2`` open) it becomes the new tip
-        (segment ``k - 1`` opens; mirrored for a tip at ``k + 1``); otherwise both its
-        segments open (a new crack, ``new_crack`` True, or two cracks joined when tips
-        lie on both sides). Then a bonded segment between two tips (no bonded node left
-        on it) opens when either tip reaches ``sigma_c``: the cracks join.
-
-    Examples
-    --------
-    >>> op = np.array([True, False, False, False, False, False])
-    >>> release_segments(op, np.array([0, 0, 5.0, 0, 0, 5.0, 0]), 1.0)
-    [(2, False), (5, True)]
-    >>> op.astype(int).tolist()
-    [1, 1, 0, 0, 1, 1]
-    """
-    out, m = [], len(open_) + 1
-    for k in np.flatnonzero(np.asarray(sigma1) >= sigma_c):  # sigma_c: a number or (m,)
-        if k == 0 or k == m - 1 or open_[k - 1] or open_[k]:
-            continue  # an end of the line, a tip or a face node: not bonded
-        tip_left = k >= 2 and bool(open_[k - 2])
-        tip_right = k + 1 < m - 1 and bool(open_[k + 1])
-        if tip_left and not tip_right:
-            open_[k - 1] = True
-        elif tip_right and not tip_left:
-            open_[k] = True
-        else:
-            open_[k - 1] = open_[k] = True
-        out.append((int(k), not (tip_left or tip_right)))
-    # a one-segment ligament between two tips (left by a new crack two nodes from a tip)
-    # has no bonded node: it opens when either of its tips reaches sigma_c
-    for j in np.flatnonzero(~open_[1:-1]) + 1:
-        over = np.asarray(sigma1)[j:j + 2] >= np.broadcast_to(sigma_c, (m,))[j:j + 2]
-        if open_[j - 1] and open_[j + 1] and over.any():
-            open_[j] = True
-            out.append((int(j if over[0] else j + 1), False))
-    return out
 
 
 def run_release(scene, method, rule: LineRelease, stepping: Stepping | None = None, *,
@@ -295,13 +281,20 @@ def run_release(scene, method, rule: LineRelease, stepping: Stepping | None = No
     # similar scales keep G M^-1 G^T well conditioned for the LU)
     scale = abs(G0).max() / abs(line.B).max() if G0.shape[0] else 1.0
 
-    def system():
+    def system(cohesive=()):
         Gl = line.rows()
         G = csr_array(vstack([G0, scale * Gl], format="csr"))
         P = Projection.build(G, np.concatenate([q0, np.zeros(Gl.shape[0])]), dyn0.minv)
         Q = None if dyn0.Q is None else np.vstack([dyn0.Q, np.zeros((Gl.shape[0], dyn0.Q.shape[1]))])
-        return replace(dyn0, projection=P, Q=Q)
+        if not cohesive:
+            return replace(dyn0, projection=P, Q=Q)
+        F = np.column_stack([dyn0.F] + [c[0] for c in cohesive])
+        return replace(dyn0, projection=P, Q=Q, F=F,
+                       histories=dyn0.histories + tuple(c[1] for c in cohesive))
 
+    cohesive = []  # (force (n_dofs,), _Softening): released segments still holding (rule.opening)
+    e_y = np.zeros(dyn0.n_dofs)  # the coefficients of u = (0, 1): the MLS bases reproduce constants
+    e_y[1:2 * dyn0.disc.nodes.n:2] = 1.0
     dyn = system()
     free = stable_step(replace(dyn0, projection=None, Q=None, q_histories=()))
     dt = stepping.dt or stepping.safety * free[0]
@@ -309,6 +302,7 @@ def run_release(scene, method, rule: LineRelease, stepping: Stepping | None = No
     n_total = math.ceil(scene.duration / dt - 1e-9)
     every = max(1, round((stepping.output_interval or scene.duration / 100) / dt))
     step, state, stop = 0, None, None
+    s1_prev, t_prev = None, 0.0  # sigma_1 on the line at the previous check
     ta, la = [0.0], [line.length()]
     tip_t, tip_x = [0.0], [line.tips()]
     rel = {"t": [], "x": [], "new_crack": []}
@@ -322,6 +316,8 @@ def run_release(scene, method, rule: LineRelease, stepping: Stepping | None = No
                         dsif=None, critical=free, progress=False)
         timings["integrate"] += time.perf_counter() - t1
         state, step = sol.state, nxt
+        for c in cohesive:
+            c[1].update(state.u)
         t1 = time.perf_counter()
         s1 = line.sigma1(state.u)
         bonded = ~np.r_[True, line.open] & ~np.r_[line.open, True]
@@ -332,22 +328,45 @@ def run_release(scene, method, rule: LineRelease, stepping: Stepping | None = No
             hist["ratio_max"].append(float((s1 / line.sigma_c)[bonded].max()) if bonded.any() else math.nan)
             hist["kinetic"].append(float(sol.history["kinetic"][-1]))
             hist["work"].append(float(sol.history["work"][-1]))
-        events = line.release(s1, line.sigma_c)
+        was_open = line.open.copy()
+        idx = release_segments(line.open, s1, line.sigma_c)
+        events = [(float(line.x[k]), new) for k, new in idx]
         timings["check"] += time.perf_counter() - t1
+        t_check = step * dt
         if not events:
+            s1_prev, t_prev = s1, t_check
             continue
+        # when the criterion was met: sigma_1 interpolated linearly in time between the
+        # previous check and this one (the release itself acts at this step)
+        k = np.array([i for i, _ in idx])
+        if s1_prev is None or not rule.interpolate:
+            t_met = np.full(len(k), t_check)
+        else:
+            lo, hi = s1_prev[k], s1[k]
+            frac = np.clip((line.sigma_c[k] - lo) / np.where(hi > lo, hi - lo, 1.0), 0.0, 1.0)
+            t_met = np.where(hi > lo, t_prev + frac * (t_check - t_prev), t_check)
+        t_grow = float(t_met.max())
+        s1_prev, t_prev = s1, t_check
         t1 = time.perf_counter()
+        if np.any(line.opening > 0):  # the support's force on the opened segments, softening
+            Pold, t_now = dyn.projection, step * dt
+            lam = Pold.lu.solve(Pold.G @ (dyn.minv * (dyn.force(t_now) - dyn.K @ state.u)))
+            opened = np.flatnonzero(line.open & ~was_open)
+            fs = line.segment_forces(scale * lam[G0.shape[0]:], opened)
+            cohesive = [c for c in cohesive if c[1].value > 0]
+            cohesive += [(fj, Softening(fj, float(fj @ e_y), float(line.opening[j + 1])))
+                         for j, fj in zip(opened, fs.T, strict=True) if line.opening[j + 1] > 0]
         for x, new in events:
-            rel["t"].append(step * dt)
+            rel["t"].append(t_grow)
             rel["x"].append(x)
             rel["new_crack"].append(new)
         a = line.length()
-        tip_t.append(step * dt)
+        tip_t.append(t_grow)
         tip_x.append(line.tips())
         if a > la[-1]:
-            ta.append(step * dt)
+            ta.append(t_grow)
             la.append(a)
-        dyn = system()
+        dyn = system(cohesive)
         P = dyn.projection
         q_now, q_before = dyn.prescribed(step * dt), dyn.prescribed((step - 1) * dt)
         u = state.u - P.correction(state.u, q_now)
