@@ -122,10 +122,10 @@ def test_accelerated_mixed_mode_field_with_faces():
          rotate_gradient(accelerated_field(m, rf, np.full(n, side * np.pi), KI, KII, acc, T0),
                          tip.angle), np.full(n, side)) for side in (1.0, -1.0)], strict=True)))
     res = decomposed_tip_result(tip, x, w, G, Gm, A, A, radii, m, faces=faces)
-    assert (res.KI, res.KII) == pytest.approx((KI, KII), rel=1e-12)
-    assert res.spread < 1e-12
+    assert (res.KI, res.KII) == pytest.approx((KI, KII), rel=4e-15)  # measured 1.3e-15
+    assert res.spread < 4e-15
     no_inertia = decomposed_tip_result(tip, x, w, G, Gm, 0 * A, 0 * A, radii, m)
-    assert no_inertia.spread > 0.01  # the inertia term is what makes it domain independent
+    assert no_inertia.spread > 0.07  # measured 0.21  # the inertia term is what makes it domain independent
 
 
 def test_errors():

@@ -153,12 +153,14 @@ def run(case: str, method: str, nx: int, ny: int, dt: float, duration: float,
 SLANT = dict(size=(44.0, 32.0), nodes=(45, 33), crack=((6.5, 0.0), (22.5, 16.0)))
 
 
-def run_slanted(method: str, dt: float, duration: float, every: float, radii=RADII) -> dict:
+def run_slanted(method: str, dt: float, duration: float, every: float, radii=RADII,
+                nodes=None) -> dict:
     """The mixed-mode slanted crack (seed 002 Sect. 4.2): K_I, K_II histories and the path
-    dependence of J'_1 and J'_2."""
+    dependence of J'_1 and J'_2 and of J'_1 of the symmetric and antisymmetric parts;
+    ``nodes`` ``(nx, ny)`` (default the seed's 45 x 33)."""
     from efgkit import Support
 
-    (w, h), (nx, ny), (a, b) = SLANT["size"], SLANT["nodes"], SLANT["crack"]
+    (w, h), (nx, ny), (a, b) = SLANT["size"], nodes or SLANT["nodes"], SLANT["crack"]
     mat = CASES["mode_I"][0]
     sc = Scene(Domain.rectangle(0.0, 0.0, w, h), mat, name="slanted", duration=duration,
                cracks=(Crack([a, b], tips=(False, True)),),
@@ -170,7 +172,7 @@ def run_slanted(method: str, dt: float, duration: float, every: float, radii=RAD
     t0 = time.perf_counter()
     dyn = dynamics(sc, m)
     dtc, lam = stable_step(dyn)
-    hooks = {"full": DynamicDSIF(radii=radii, domains=True),
+    hooks = {"full": DynamicDSIF(radii=radii, domains=True, decomposition=True),
              "no_face_term": DynamicDSIF(radii=radii, domains=True, face_terms=False)}
     got = {k: [] for k in hooks}
 
@@ -194,6 +196,15 @@ def run_slanted(method: str, dt: float, duration: float, every: float, radii=RAD
     out["J_domains_no_face_term"] = np.array([g["J_prime_domains"][0] for g in got["no_face_term"]])
     out["K"]["J_no_face_term"] = {"K_I": np.array([g["J"][0, 0] for g in got["no_face_term"]]) / norm,
                                   "K_II": np.array([g["J"][0, 1] for g in got["no_face_term"]]) / norm}
+    # the decomposition method: J'_1 of the symmetric (mode I) and antisymmetric (mode II) parts
+    Jdec = s["J_decomposed_domains"][:, 0]  # (n_out, n_radii, 2)
+    out["J_decomposed_domains"] = Jdec
+    out["K"]["J_decomposed"] = {"K_I": s["J_decomposed"][:, 0, 0] / norm,
+                                "K_II": s["J_decomposed"][:, 0, 1] / norm}
+    for c, name in ((0, "J1_I"), (1, "J1_II")):
+        ref = Jdec[:, len(radii) // 2, c]
+        big = np.abs(ref) >= 0.25 * np.abs(ref).max()
+        out["path_dependence"][name] = float(np.max(np.ptp(Jdec[big, :, c], axis=1) / np.abs(ref[big])))
     out["path_dependence_no_face_term"] = {}
     for c, name in ((0, "J1"), (1, "J2")):
         for key, J in (("path_dependence", Jd), ("path_dependence_no_face_term",
