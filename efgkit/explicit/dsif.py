@@ -20,6 +20,10 @@ crack, side by side (seed 002 Eqs. 31-38, seed 000 Eqs. 5.2-5.8):
 * ``"spread"``: ``(spread_J, spread)``, the domain spreads of the ``J'`` and the
   interaction ``K`` (:class:`~efgkit.fracture.dynamic_tip.DynamicTipResult`).
 
+With ``decomposition=True`` also ``"J_decomposed"``: ``K_I``, ``K_II`` from ``J'_1`` of the
+symmetric and antisymmetric parts of the field about the crack line
+(:mod:`efgkit.fracture.decomposition`), which needs no ``J'_2`` and its face term.
+
 :func:`quasi_static_dsif` keeps the static estimates on the current displacement (no
 inertia term), for comparison.
 
