@@ -179,10 +179,12 @@ def run_slanted(method: str, dt: float, duration: float, every: float, radii=RAD
     hooks = {"full": DynamicDSIF(radii=radii, domains=True, decomposition=True),
              "no_face_term": DynamicDSIF(radii=radii, domains=True, face_terms=False)}
     got = {k: [] for k in hooks}
+    states = []
 
     def every_hook(dyn, u, v, a, t):  # both hooks on the same states
         for k, hook in hooks.items():
             got[k].append(hook(dyn, u, v, a, t))
+        states.append((u.copy(), a.copy()))
         return {}
 
     sol = integrate(sc, m, Stepping(dt=dt, output_interval=every), dyn=dyn, critical=(dtc, lam),
@@ -218,6 +220,9 @@ def run_slanted(method: str, dt: float, duration: float, every: float, radii=RAD
     j = int(np.argmax(size))
     out["J2_at_peak"] = {"t_us": float(t[j] / US), "J2": Jd[j, :, 1] * mat.E_prime / norm**2,
                          "from_interaction": float(-2 * Ki[j, 0] * Ki[j, 1] / norm**2)}
+    deltas = (0.0, 0.25, 0.5, 1.0, 2.0)
+    out["J2_face_exclusion"] = {"delta_h": list(deltas), "J2": j2_face_exclusion(
+        dyn, *states[j], radii, deltas) * mat.E_prime / norm**2}
     out["decomposed_vs_interaction"] = {
         c: float(np.max(np.abs(s["J_decomposed"][big, 0, i] - Ki[big, i]) / size[big]))
         for i, c in enumerate(("K_I", "K_II"))}
@@ -229,6 +234,38 @@ def run_slanted(method: str, dt: float, duration: float, every: float, radii=RAD
             big = np.abs(ref) >= 0.25 * np.abs(ref).max()
             out[key][name] = float(np.max(np.ptp(J[big, :, c], axis=1) / np.abs(ref[big])))
     return out
+
+
+def j2_face_exclusion(dyn, u, a, radii, deltas) -> np.ndarray:
+    """J'_2 of the first tip at one state (coefficients ``u``, ``a``) with the crack-face
+    points closer than ``delta h`` to the tip left out of its face term, for each ``delta``
+    of ``deltas``: ndarray (n_deltas, n_radii). A diagnostic of where the face term's error
+    sits (the hook's own operators, acceleration recovery and q-function)."""
+    from efgkit.explicit.dsif import TipOperators
+    from efgkit.fracture.dynamic import contract_dynamic, dynamic_integrands
+    from efgkit.fracture.integrals import FaceLoad
+    from efgkit.fracture.qfunctions import QFunction
+    from efgkit.problem.material import strain_from_gradient
+
+    ops = TipOperators(dyn, radii)
+    d, mat = ops.tips[0], dyn.disc.scene.material
+
+    def grad(op):
+        return (op @ u).reshape(2, 2, -1).transpose(2, 0, 1)
+
+    g, m = grad(d["op"]), len(d["x"])
+    acc = (d["val"] @ ops.recovered_acceleration(a, 4)).reshape(2, m).T
+    it = dynamic_integrands(d["x"], d["w"], strain_from_gradient(g) @ mat.D.T, g,
+                            np.zeros((m, 2)), acc, None, d["tip"], mat, max(radii))
+    f = d["face0"]
+    fg = np.concatenate([grad(d["faces"][side]) for side in (1.0, -1.0)])
+    r = np.hypot(*(f.x - d["tip"].x).T)
+    out = []
+    for delta in deltas:
+        k = r > delta * d["h"]
+        fk = FaceLoad(f.x[k], f.w[k], f.traction[k], fg[k], f.side[k])
+        out.append([contract_dynamic(it, QFunction("wendland_c2", R), fk).J2 for R in radii])
+    return np.array(out)
 
 
 def _lists(obj):
@@ -358,4 +395,8 @@ def _decomposed_lines(v: dict) -> list[str]:
             "relative to |K|, wherever |K| is above a quarter of its peak. "
             f"J'_2 E' / (sigma0^2 pi a0) at t = {v['J2_at_peak']['t_us']:.1f} us over the radii: "
             f"{', '.join(f'{x:.3f}' for x in v['J2_at_peak']['J2'])}, against "
-            f"{v['J2_at_peak']['from_interaction']:.3f} from the interaction K."]
+            f"{v['J2_at_peak']['from_interaction']:.3f} from the interaction K; with the face "
+            "points closer than delta h to the tip left out of the face term: " + "; ".join(
+                f"delta = {dl:g}: " + ", ".join(f"{x:.3f}" for x in row) for dl, row in
+                zip(v["J2_face_exclusion"]["delta_h"], v["J2_face_exclusion"]["J2"], strict=True))
+            + "."]
