@@ -3,8 +3,8 @@
 The mixed-mode split of seed 002 Eqs. 37-38 rests on ``J'_2``, whose crack-face term
 holds the strain energy density ``W`` on both faces close to the tip, where a discrete field
 without enrichment is poorest. The decomposition method (Ishikawa, Kitagawa and Okamura,
-ICM 3, 1979; for the dynamic ``J'``: Nishioka and Atluri, Eng. Fract. Mech. 18, 1983,
-Sect. 4, and Nishioka, Int. J. Fract. 86, 1997) avoids ``J'_2``: with the reflection
+ICM 3, 1979; Rigby and Aliabadi, Int. J. Solids Struct. 35, 1998), applied here to the
+dynamic ``J'`` of seed 002 Eq. 31, avoids ``J'_2``: with the reflection
 ``P' = (x'_1, -x'_2)`` of a point ``P`` across the crack line (tip frame ``x'``) and
 ``S = diag(1, -1)``,
 
