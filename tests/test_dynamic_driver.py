@@ -25,7 +25,8 @@ def run():
              "dynamic": DynamicDSIF(radii=radii, domains=True),
              "no_inertia": DynamicDSIF(radii=radii, inertia=False),
              "no_faces": DynamicDSIF(radii=radii, face_terms=False),
-             "lumped": DynamicDSIF(radii=radii, domains=True, mass_iterations=0)}
+             "lumped": DynamicDSIF(radii=radii, domains=True, mass_iterations=0),
+             "decomposed": DynamicDSIF(radii=radii, domains=True, decomposition=True)}
     out = {k: {} for k in hooks}
 
     def every(dyn, u, v, a, t):
@@ -54,6 +55,23 @@ def test_default_hook_gives_every_estimate_side_by_side(run):
     m = MAT
     assert np.allclose(s["J_prime"][:, 0, 0], (m.kappa + 1) / (8 * m.mu) * s["J"][:, 0, 0] ** 2,
                        rtol=1e-10, atol=1e-14)
+
+
+def test_decomposition_on_a_symmetric_run(run):
+    # the plate, crack, pressure and loads are symmetric about the crack line: the
+    # antisymmetric part vanishes and J'_1 of the symmetric part is the whole J'_1
+    s, d = run["decomposed"]["sifs"], run["dynamic"]["sifs"]
+    assert set(s) == set(DYNAMIC_ESTIMATES) | {"J_decomposed", "J_prime_domains", "J_decomposed_domains"}
+    top = np.abs(d["J_prime_domains"][..., 0]).max()  # measured differences <= 1.5e-15 of it
+    assert np.allclose(s["J_decomposed_domains"][..., 0], d["J_prime_domains"][..., 0], rtol=0,
+                       atol=1e-13 * top)
+    assert np.abs(s["J_decomposed_domains"][..., 1]).max() < 1e-13 * top
+    K = np.abs(d["J"]).max()  # K_I as from J': measured 2e-16; K_II: 6e-15
+    assert np.allclose(s["J_decomposed"][..., 0], d["J"][..., 0], rtol=0, atol=1e-13 * K)
+    assert np.abs(s["J_decomposed"][..., 1]).max() < 1e-13 * K
+    with pytest.raises(ValueError, match="clear of the boundary"):  # the tip is 0.5 from the top
+        z = np.zeros(run["dyn"].n_dofs)
+        DynamicDSIF(radii=(0.3, 0.45, 0.6), decomposition=True)(run["dyn"], z, z, z, 0.0)
 
 
 def test_j_of_each_domain(run):

@@ -20,6 +20,10 @@ crack, side by side (seed 002 Eqs. 31-38, seed 000 Eqs. 5.2-5.8):
 * ``"spread"``: ``(spread_J, spread)``, the domain spreads of the ``J'`` and the
   interaction ``K`` (:class:`~efgkit.fracture.dynamic_tip.DynamicTipResult`).
 
+With ``decomposition=True`` also ``"J_decomposed"``: ``K_I``, ``K_II`` from ``J'_1`` of the
+symmetric and antisymmetric parts of the field about the crack line
+(:mod:`efgkit.fracture.decomposition`), which needs no ``J'_2`` and its face term.
+
 :func:`quasi_static_dsif` keeps the static estimates on the current displacement (no
 inertia term), for comparison.
 
@@ -68,6 +72,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.sparse import csr_array, vstack
 
+from ..fracture.decomposition import decomposed_tip_result, mirror_points
 from ..fracture.dynamic_tip import dynamic_tip_result
 from ..fracture.extrapolation import k_from_symmetric_rays, near_tip_sif, ray_points
 from ..fracture.integrals import FaceLoad
@@ -172,6 +177,21 @@ class TipOperators:
             out -= P.minv_GT @ P.lu.solve(P.G @ out)
         return out
 
+    def _mirror(self, d: dict) -> tuple[csr_array, csr_array]:
+        """Gradient and value operators at the reflections of the tip's domain points across
+        its crack line (built at the first call); the domain must be clear of the boundary,
+        kinks and other cracks, so that the reflections lie in the body on the other face."""
+        if "mirror" not in d:
+            lim = tip_limits(self.scene, d["tip"])
+            if max(d["rs"]) > min(lim.values()):
+                raise ValueError(f"tip {d['tip'].id}: the decomposition needs J domains clear of "
+                                 f"the boundary, kinks and other cracks (largest radius "
+                                 f"{max(d['rs']):.4g}, free distances {lim}); give smaller radii")
+            sh = self.dyn.disc.shape_at(mirror_points(d["x"], d["tip"]), derivatives=True)
+            d["mirror"] = (csr_array(vstack(list(sh.grad_operators()), format="csr")),
+                           csr_array(vstack(list(sh.u_operators()), format="csr")))
+        return d["mirror"]
+
     def _faces(self, d: dict, u: np.ndarray) -> FaceLoad:
         """The tip's face points with their tractions and the gradients of ``u`` there."""
         grads = np.concatenate([_grad(d["faces"][s], u) for s in (1.0, -1.0)])
@@ -206,7 +226,7 @@ class TipOperators:
 
     def dynamic(self, u: np.ndarray, a: np.ndarray, t: float, q="wendland_c2",
                 inertia: bool = True, face_terms: bool = True, domains: bool = False,
-                mass_iterations: int = 0) -> dict:
+                mass_iterations: int = 0, decomposition: bool = False) -> dict:
         """The :data:`DYNAMIC_ESTIMATES` ``(n_tips, 2)`` each for displacement ``u`` and
         acceleration ``a`` (coefficients) at ``t``, stationary tips (``V = 0``); with
         ``domains`` also ``"J_prime_domains"`` ``(n_tips, n_radii, 2)``: ``J'_1``, ``J'_2``
@@ -215,10 +235,15 @@ class TipOperators:
         ``inertia=False`` drops the acceleration (the static integrand) and
         ``face_terms=False`` the crack-face terms: both only to show what they contribute.
         ``mass_iterations``: the acceleration recovery (:meth:`recovered_acceleration`).
+        ``decomposition`` adds ``"J_decomposed"`` (K_I, K_II from ``J'_1`` of the symmetric
+        and antisymmetric parts, :mod:`efgkit.fracture.decomposition`) and, with ``domains``,
+        ``"J_decomposed_domains"`` ``(n_tips, n_radii, 2)``: ``J'_1(u^I)``, ``J'_1(u^II)``.
         """
         scene, mat = self.scene, self.scene.material
         n = len(self.tips)
         out = {k: np.zeros((n, 2)) for k in DYNAMIC_ESTIMATES}
+        if decomposition:
+            out["J_decomposed"] = np.zeros((n, 2))
         bf = None
         if scene.body_force is not None:
             g = scene.body_force_history
@@ -244,8 +269,24 @@ class TipOperators:
             if domains:
                 out.setdefault("J_prime_domains", []).append([(dd.J1, dd.J2) for dd in res.domains])
             out["stress_0"][k], out["stress_90"][k] = self._near_tip(d, u)
+            if decomposition:
+                gop, vop = self._mirror(d)
+                am = (vop @ a).reshape(2, m).T if inertia else np.zeros((m, 2))
+                bm = None
+                if bf is not None:
+                    xm = mirror_points(d["x"], d["tip"])
+                    bm = bf[0] * evaluate_vector(bf[1], xm, np.zeros_like(xm), mat)
+                dec = decomposed_tip_result(d["tip"], d["x"], d["w"], grad, _grad(gop, u), acc, am,
+                                            d["rs"], mat, q=q, body_force=b, body_force_mirror=bm,
+                                            faces=self._faces(d, u) if face_terms else None)
+                out["J_decomposed"][k] = (dec.KI, dec.KII)
+                if domains:
+                    out.setdefault("J_decomposed_domains", []).append(
+                        np.column_stack([dec.J1_I, dec.J1_II]))
         if domains:
             out["J_prime_domains"] = np.array(out["J_prime_domains"])
+            if decomposition:
+                out["J_decomposed_domains"] = np.array(out["J_decomposed_domains"])
         return out
 
 
@@ -282,6 +323,11 @@ class DynamicDSIF:
     mass_iterations : int
         Jacobi steps of the acceleration recovery of the inertia term (module docstring;
         default 4; 0: the driver's lumped-mass acceleration). EFG only.
+    decomposition : bool
+        Also give ``"J_decomposed"``: K_I, K_II from ``J'_1`` of the symmetric and
+        antisymmetric parts of the field about the crack line (no ``J'_2``;
+        :mod:`efgkit.fracture.decomposition`), with ``domains`` also
+        ``"J_decomposed_domains"``; straight cracks, domains clear of the boundary. Default False.
 
     Calling it as ``hook(dyn, u, v, a, t)`` returns ``{estimate: ndarray (n_tips, 2)}``
     for :data:`DYNAMIC_ESTIMATES`; the operators are built at the first call for a run.
@@ -300,6 +346,7 @@ class DynamicDSIF:
     face_terms: bool = True
     domains: bool = False
     mass_iterations: int = 4
+    decomposition: bool = False
 
     def __post_init__(self):
         k = self.mass_iterations
@@ -325,7 +372,7 @@ class DynamicDSIF:
             warnings.simplefilter("ignore")
             return ops.dynamic(np.asarray(u, float), np.asarray(a, float), t, self.q,
                                self.inertia, self.face_terms, self.domains,
-                               int(self.mass_iterations))
+                               int(self.mass_iterations), bool(self.decomposition))
 
 
 dynamic_dsif = DynamicDSIF()

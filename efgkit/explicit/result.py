@@ -13,7 +13,8 @@ from ..solution import method_record
 __all__ = ["DynamicSolution"]
 
 # sifs entries that are not (K_I, K_II): their two columns (explicit.dsif.DYNAMIC_ESTIMATES)
-_COLUMNS = {"J_prime": ("J1", "J2"), "spread": ("J", "interaction"), "J_prime_domains": ("J1", "J2")}
+_COLUMNS = {"J_prime": ("J1", "J2"), "spread": ("J", "interaction"), "J_prime_domains": ("J1", "J2"),
+            "J_decomposed_domains": ("J1_I", "J1_II")}
 
 
 @dataclass(frozen=True, eq=False)
