@@ -21,7 +21,10 @@ VERIFICATION_OUT = Path(__file__).resolve().parent / "out"
 
 
 def _clean(obj):
-    """JSON-safe copy: tuples to lists, numpy scalars to floats, non-finite to strings."""
+    """JSON-safe copy: tuples and arrays to lists, numpy scalars to floats, non-finite to
+    strings."""
+    if getattr(obj, "ndim", 0):  # a numpy array (not a scalar): its elements, recursively
+        obj = obj.tolist()
     if isinstance(obj, dict):
         return {str(k): _clean(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):
