@@ -95,8 +95,11 @@ def package_at(rev: str):
 
 
 def against(rev: str, rounds: int, m: int = 80) -> dict:
-    """Build + search (CSR) at dA = 1/m by this tree, by revision ``rev`` and by cKDTree, in
-    turns over ``rounds`` rounds; per-round ratios and their median and quartiles."""
+    """Build + search (CSR) at dA = 1/m by this tree, by revision ``rev`` and by cKDTree (and
+    this tree held to one thread when numba has more), in turns over ``rounds`` rounds;
+    per-round ratios and their median and quartiles."""
+    from numba import get_num_threads
+
     old = package_at(rev)
     nodes = layout(m)
     x = nodes.x
@@ -105,6 +108,16 @@ def against(rev: str, rounds: int, m: int = 80) -> dict:
            f"{rev}": lambda: old.neighbour_lists(x, nodes, old.BoxGrid.build(nodes, kind="nonuniform"),
                                                  method="nonuniform"),
            "cKDTree": lambda: neighbour_lists(x, nodes, method="kdtree")}
+    from efgkit.search import neighbours
+
+    def one_thread():  # this tree with the threshold of the parallel passes above N
+        keep, neighbours.PARALLEL = neighbours.PARALLEL, 1 << 62
+        try:
+            return run["this tree"]()
+        finally:
+            neighbours.PARALLEL = keep
+    if get_num_threads() > 1:
+        run["this tree, one thread"] = one_thread
     outs = {k: fn() for k, fn in run.items()}  # warm-up (compiles) and the identity check
     same = {k: bool(all(np.array_equal(a, b) for a, b in zip(o, outs["cKDTree"], strict=True)))
             for k, o in outs.items()}
@@ -124,9 +137,10 @@ def against(rev: str, rounds: int, m: int = 80) -> dict:
 
 def against_section(res: dict, cmd: str) -> str:
     """The section ``search_against`` of docs/performance.md."""
-    rev = res["rev"]
-    lines = ["<!-- begin:search_against -->",
-             "## Neighbour search at N = 145,281: this branch against the previous search", "",
+    rev, tag = res["rev"], f"search_against_{res['threads']}t"
+    lines = [f"<!-- begin:{tag} -->",
+             f"## Neighbour search at N = 145,281: this branch against the previous search, "
+             f"numba with {res['threads']} thread{'s' if res['threads'] > 1 else ''}", "",
              f"Command: `{cmd}` ({res['machine']}, {res['date']}; a shared 2-core machine with other "
              f"jobs running, numba with {res['threads']} threads). Build + search with CSR output "
              f"on seed 000's layout at dA = 1/80 mm, the three taking turns over {res['rounds']} "
@@ -139,7 +153,7 @@ def against_section(res: dict, cmd: str) -> str:
     o, c = res["old_over_new"], res["kdtree_over_new"]
     lines += ["", f"Per-round ratios: {rev} / this tree {o[0]:.2f} / **{o[1]:.2f}** / {o[2]:.2f}; "
               f"cKDTree / this tree {c[0]:.2f} / **{c[1]:.2f}** / {c[2]:.2f} (target >= 10; "
-              "build + search <= 0.1 s).", "<!-- end:search_against -->", ""]
+              "build + search <= 0.1 s).", f"<!-- end:{tag} -->", ""]
     return "\n".join(lines)
 
 
@@ -266,12 +280,13 @@ def main(argv=None) -> dict:
                           f"{platform.python_version()}", "date": time.strftime("%Y-%m-%d"),
                "threads": get_num_threads(), "rev": args.against,
                **against(args.against, args.rounds)}
-        cmd = f"PYTHONPATH=. python benchmarks/search.py --against {args.against} --rounds {args.rounds}"
+        cmd = (f"NUMBA_NUM_THREADS={res['threads']} PYTHONPATH=. python benchmarks/search.py "
+               f"--against {args.against} --rounds {args.rounds}")
         text = against_section(res, cmd)
         print(text)
         if not args.no_write:
             write_section(text, ROOT / "docs" / "performance.md")
-            write_json(res, ROOT / "benchmarks" / "out" / "search_against.json")
+            write_json(res, ROOT / "benchmarks" / "out" / f"search_against_{res['threads']}t.json")
         return res
 
     before = previous_search(args.before) if args.before else None
