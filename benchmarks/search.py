@@ -249,7 +249,9 @@ def markdown(res: dict, cmd: str) -> str:
                               for n, w in wrong) + "."]
     lines += ["", "The seed's times are of a single-processor PC of 2007 and of its own "
               "implementation (direct search included); they are listed for the trend, not "
-              "compared. Targets at N = 145,281: build + search <= 0.1 s and >= 10x cKDTree.",
+              "compared. Targets at N = 145,281: build + search <= 0.1 s and >= 10x cKDTree; "
+              "measured against the previous search in turns by `search.py --against REV` "
+              "(sections search_against_1t, search_against_2t).",
               "<!-- end:search -->", ""]
     return "\n".join(lines)
 
