@@ -135,6 +135,16 @@ def against(rev: str, rounds: int, m: int = 80) -> dict:
             "kdtree_over_new": q(t["cKDTree"] / t["this tree"])}
 
 
+NOTE = ("What changed: the members' (x, y, d_mI^2) are packed in box order at registration "
+        "(24 bytes per registration, 29 MB for the 1.2M registrations here), so the query reads "
+        "a box's candidates as one contiguous run; the points' boxes and the nodes' extent and "
+        "validity are found by compiled loops instead of numpy temporaries; on one thread "
+        "(fewer than 100,000 points, or numba with one thread) count and fill are one pass "
+        "(`kernels.csr_serial`: a chunk's lists in a scratch array, then appended). With two "
+        "threads on this loaded machine the parallel passes gain little over one thread: "
+        "compare the two sections.")
+
+
 def against_section(res: dict, cmd: str) -> str:
     """The section ``search_against`` of docs/performance.md."""
     rev, tag = res["rev"], f"search_against_{res['threads']}t"
@@ -142,8 +152,9 @@ def against_section(res: dict, cmd: str) -> str:
              f"## Neighbour search at N = 145,281: this branch against the previous search, "
              f"numba with {res['threads']} thread{'s' if res['threads'] > 1 else ''}", "",
              f"Command: `{cmd}` ({res['machine']}, {res['date']}; a shared 2-core machine with other "
-             f"jobs running, numba with {res['threads']} threads). Build + search with CSR output "
-             f"on seed 000's layout at dA = 1/80 mm, the three taking turns over {res['rounds']} "
+             f"jobs running, numba with {res['threads']} "
+             f"thread{'s' if res['threads'] > 1 else ''}). Build + search with CSR output "
+             f"on seed 000's layout at dA = 1/80 mm, the searches taking turns over {res['rounds']} "
              "rounds; quartiles (25 %, median, 75 %) of the times and of the per-round ratios. "
              "Graphs equal to cKDTree's: "
              f"{', '.join(f'{k} **{v}**' for k, v in res['same_graph'].items())}.", "",
@@ -153,7 +164,7 @@ def against_section(res: dict, cmd: str) -> str:
     o, c = res["old_over_new"], res["kdtree_over_new"]
     lines += ["", f"Per-round ratios: {rev} / this tree {o[0]:.2f} / **{o[1]:.2f}** / {o[2]:.2f}; "
               f"cKDTree / this tree {c[0]:.2f} / **{c[1]:.2f}** / {c[2]:.2f} (target >= 10; "
-              "build + search <= 0.1 s).", f"<!-- end:{tag} -->", ""]
+              "build + search <= 0.1 s).", "", NOTE, f"<!-- end:{tag} -->", ""]
     return "\n".join(lines)
 
 
