@@ -6,6 +6,9 @@ Run:  python benchmarks/work_precision.py            (full, ~25 minutes)
       python benchmarks/work_precision.py --mlpg     (MLPG beside EFG extrinsic MLS and graded
                                                       P2 only; prints the section of
                                                       docs/performance.md, ~10 minutes)
+      PYTHONPATH=. python benchmarks/work_precision.py --interleaved --rounds 15
+                                                     (the deciding EFG and P2 runs timed in
+                                                      turns: benchmarks/work_interleaved.py)
 
 Every point is the wall time (time.perf_counter) of the whole pipeline from the scene to
 the stress intensity factors: discretisation or meshing, assembly, solve and the domain
@@ -382,6 +385,36 @@ def write_section(text: str, path: Path) -> None:
     path.write_text(new)
 
 
+def interleaved_main(args) -> dict:
+    """``--interleaved``: the section ``work_interleaved`` of docs/performance.md."""
+    import re
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    import work_interleaved as wi
+
+    warnings.simplefilter("ignore", UserWarning)
+    sc = patch_scene()  # warm-up: numba kernels and imports
+    efg_point(sc, "singular patch", "extrinsic MLS", 0.5, 1.0, 1)
+    fem_point(sc, "singular patch", 0.5, 0.1, 1.0, 1)
+    res = {"machine": f"{platform.machine()}, {platform.python_implementation()} "
+                      f"{platform.python_version()}", "date": time.strftime("%Y-%m-%d"),
+           "problems": wi.run(sys.modules[__name__], args.rounds)}
+    print(wi.screened_table(res))
+    cmd = f"PYTHONPATH=. python benchmarks/work_precision.py --interleaved --rounds {args.rounds}"
+    before = ROOT / "benchmarks" / "out" / "work_interleaved_before.md"
+    text = wi.section(res, cmd, {"text": before.read_text().strip()} if before.exists() else None)
+    print(text)
+    if not args.no_write:
+        write_json(res, ROOT / "benchmarks" / "out" / "work_interleaved.json")
+        path = ROOT / "docs" / "performance.md"
+        old = path.read_text()
+        pat = re.compile(r"<!-- begin:work_interleaved -->.*?<!-- end:work_interleaved -->\n?", re.S)
+        path.write_text(pat.sub(lambda _: text, old) if pat.search(old)
+                        else old.rstrip("\n") + "\n\n" + text)
+    return res
+
+
 def main(argv=None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true")
@@ -391,7 +424,13 @@ def main(argv=None) -> dict:
                     help="MLPG beside EFG extrinsic MLS and graded P2: the section of docs/performance.md")
     ap.add_argument("--render", action="store_true",
                     help="re-render docs from benchmarks/out/work_precision.json without timing")
+    ap.add_argument("--interleaved", action="store_true",
+                    help="time the cheapest EFG and P2 runs reaching 0.1 %% in turns "
+                         "(benchmarks/work_interleaved.py)")
+    ap.add_argument("--rounds", type=int, default=15, help="rounds of --interleaved")
     args = ap.parse_args(argv)
+    if args.interleaved:
+        return interleaved_main(args)
     if args.render and args.mlpg:  # the MLPG section from benchmarks/out/work_precision_mlpg.json
         res = json.loads((ROOT / "benchmarks" / "out" / "work_precision_mlpg.json").read_text())
         for r in res["problems"].values():
@@ -439,5 +478,6 @@ def main(argv=None) -> dict:
 
 if __name__ == "__main__":
     out = main()
-    print(json.dumps({p: {"ratios": r["ratios"], "time_to_target": r["time_to_target"]}
-                      for p, r in out["problems"].items()}, indent=1))
+    if "problems" in out and all("ratios" in r for r in out["problems"].values()):
+        print(json.dumps({p: {"ratios": r["ratios"], "time_to_target": r["time_to_target"]}
+                          for p, r in out["problems"].items()}, indent=1))

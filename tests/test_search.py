@@ -151,3 +151,21 @@ def test_research_interval_of_seed_000():
 def test_bad_input(call, match):
     with pytest.raises(ValueError, match=match):
         call(CLOUDS["random"])
+
+
+@pytest.mark.parametrize("name", ["seed000_m5", "duplicates", "line"])
+def test_threaded_count_and_fill_give_the_one_pass_graph(name, monkeypatch):
+    """Below PARALLEL points (or on one thread) the CSR lists come from one fused pass
+    (kernels.csr_serial); above it from the parallel count and fill passes: the same graph."""
+    from efgkit.search import neighbours
+
+    nodes = CLOUDS[name]
+    x = query_points(nodes)
+    a = neighbour_lists(x, nodes, method="nonuniform")
+    monkeypatch.setattr(neighbours, "PARALLEL", 0)
+    b = neighbour_lists(x, nodes, method="nonuniform")
+    truth = brute(x, nodes)
+    np.testing.assert_array_equal(np.diff(a[0]), truth.sum(axis=1))
+    np.testing.assert_array_equal(a[1], np.nonzero(truth)[1])
+    np.testing.assert_array_equal(a[0], b[0])
+    np.testing.assert_array_equal(a[1], b[1])

@@ -8,6 +8,7 @@ package. The argument checks are shared by the rule builders.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -111,6 +112,15 @@ def gauss_legendre(order: int) -> tuple[np.ndarray, np.ndarray]:
     (2.0, 0.4)
     """
     check_count("order", order)
+    xi, w = _leggauss(int(order))
+    return xi.copy(), w.copy()
+
+
+@functools.lru_cache(maxsize=64)
+def _leggauss(order):
+    """numpy's Gauss-Legendre rule (an eigenvalue problem), computed once per order: the
+    rules of a small run cost more than its MLS kernel (docs/performance.md,
+    work_interleaved)."""
     return np.polynomial.legendre.leggauss(order)
 
 
@@ -139,9 +149,15 @@ def triangle_rule(degree: int) -> tuple[np.ndarray, np.ndarray]:
     True
     """
     check_count("degree", degree, low=0)
-    m = max(1, math.ceil((degree + 1) / 2))
+    bary, w = _triangle_rule(max(1, math.ceil((degree + 1) / 2)))
+    return bary.copy(), w.copy()
+
+
+@functools.lru_cache(maxsize=64)
+def _triangle_rule(m):
+    """:func:`triangle_rule` with ``m`` points per direction, computed once per ``m``."""
     a, wa = roots_jacobi(m, 1.0, 0.0)  # weight (1 - a) on [-1, 1]
-    b, wb = np.polynomial.legendre.leggauss(m)
+    b, wb = _leggauss(m)
     u, v = np.meshgrid((1 + a) / 2, (1 + b) / 2, indexing="ij")
     x, y = u.ravel(), (v * (1 - u)).ravel()
     return np.column_stack([1 - x - y, x, y]), np.outer(wa / 4, wb / 2).ravel()

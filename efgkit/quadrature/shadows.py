@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from .discs import visible
-from .rules import Points
+from .rules import Points, gauss_legendre
 
 __all__ = ["shadow_pieces"]
 
@@ -46,7 +46,7 @@ def shadow_pieces(scene, nodes, r_s: np.ndarray, cseg: np.ndarray, order: int) -
     vis = np.column_stack([visible(origin, probe + s * eps * perp, cseg, 1e-9) for s in (1.0, -1.0)])
     one = vis[:, 0] != vis[:, 1]  # exactly one side hidden: the ray bounds the visible part
     hidden = np.where(vis[:, 0], -1.0, 1.0)[:, None] * perp  # outward normal of Omega_s
-    g, gw = np.polynomial.legendre.leggauss(order)
+    g, gw = gauss_legendre(order)
     t = 0.5 * (g + 1.0)
     k = np.repeat(np.flatnonzero(one), order)
     tt = np.tile(t, one.sum())

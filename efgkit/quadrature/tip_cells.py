@@ -19,6 +19,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .rules import gauss_legendre
+
 __all__ = ["collapsed_rule", "tip_cell_rule", "tip_cells"]
 
 
@@ -41,7 +43,7 @@ def collapsed_rule(apex: np.ndarray, a: np.ndarray, b: np.ndarray, order: int):
     >>> round(float(w.sum()), 14), round(float(w @ (1 / np.hypot(*x.T))), 6)  # sqrt(2) asinh(1)
     (0.5, 1.24645)
     """
-    g, gw = np.polynomial.legendre.leggauss(order)
+    g, gw = gauss_legendre(order)
     g, gw = (g + 1) / 2, gw / 2
     u, v = np.meshgrid(g, g, indexing="ij")
     wu = np.outer(gw, gw) * u

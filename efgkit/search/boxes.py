@@ -47,6 +47,9 @@ class BoxGrid:
         Nodes of each box, ascending.
     kind : {"uniform", "nonuniform"}
         The kind built.
+    packed : ndarray, shape (n_registrations, 3)
+        ``(x_I, y_I, d_mI^2)`` of each entry of ``members``: the query kernels read a
+        box's candidates from here in one contiguous run.
     """
 
     axis: int
@@ -57,6 +60,7 @@ class BoxGrid:
     start: np.ndarray
     members: np.ndarray
     kind: str = "uniform"
+    packed: np.ndarray | None = None
 
     @classmethod
     def build(cls, nodes: NodeCloud, size: float | None = None, kind: str = "auto",
@@ -96,17 +100,25 @@ class BoxGrid:
         r = np.ascontiguousarray(nodes.radius, dtype=float)
         if len(x) == 0:
             raise ValueError("nodes is empty: a box grid needs at least one node")
-        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(r)) and np.all(r > 0)):
+        compiled = resolve_backend(backend, len(x)) == "numba"
+        if compiled:  # one compiled pass instead of six numpy reductions (docs/performance.md)
+            from .kernels import extent
+
+            low, high, bad_x, bad_r = extent(x, r)
+        else:
+            bad_x = int((~np.isfinite(x)).any(axis=1).sum())
+            bad_r = int((~(r > 0) | ~np.isfinite(r)).sum())
+        if bad_x or bad_r:
             raise ValueError("nodes must have finite coordinates and positive finite radii; "
-                             f"got {int((~np.isfinite(x)).any(axis=1).sum())} non-finite "
-                             f"coordinates and {int((~(r > 0) | ~np.isfinite(r)).sum())} bad radii")
+                             f"got {bad_x} non-finite coordinates and {bad_r} bad radii")
         if kind == "auto" and size is not None:
             kind = "uniform"
         if kind == "auto":  # small clouds: uniform, built without compiled kernels
             kind = "uniform" if r.max() <= SPREAD * np.median(r) or \
                 resolve_backend("auto", len(x)) == "numpy" else "nonuniform"
-        low = (x - r[:, None]).min(axis=0)
-        high = (x + r[:, None]).max(axis=0)
+        if not compiled:
+            low = (x - r[:, None]).min(axis=0)
+            high = (x + r[:, None]).max(axis=0)
         axis = 1 if high[1] - low[1] >= high[0] - low[0] else 0
         other = 1 - axis
         a_lo, a_hi = float(low[axis]), float(high[axis])
@@ -129,13 +141,14 @@ class BoxGrid:
         o_lo, o_hi = float(low[other]), float(high[other])
         per = np.floor((o_hi - o_lo) / side).astype(np.int64) + 1
         offset = np.concatenate([[0], np.cumsum(per)]).astype(np.int64)
-        if resolve_backend(backend, len(x)) == "numba":
+        if compiled:
             from .kernels import register
 
-            start, members = register(x, r, axis, edges, side, offset, o_lo)
+            start, members, packed = register(x, r, axis, edges, side, offset, o_lo)
         else:
             start, members = _register_numpy(x, r, axis, edges, side, offset, o_lo)
-        return cls(axis, edges, side, offset, o_lo, start, members, kind)
+            packed = np.column_stack([x, r * r])[members]
+        return cls(axis, edges, side, offset, o_lo, start, members, kind, packed)
 
     @property
     def n_boxes(self) -> int:

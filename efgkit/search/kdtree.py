@@ -18,6 +18,11 @@ from ..nodes import NodeCloud
 
 __all__ = ["kdtree_lists"]
 
+# Fewer query discs than this are searched by one thread: starting the pool's threads costs
+# more than the query of a small cloud (~0.5 ms a call, two calls a solve; docs/performance.md,
+# work_interleaved).
+THREADED = 20_000
+
 
 def kdtree_lists(x: np.ndarray, nodes: NodeCloud, chunk: int = 65536):
     """CSR neighbour graph ``(indptr (n_points + 1,), indices)`` by cKDTree, rows ascending.
@@ -36,7 +41,8 @@ def kdtree_lists(x: np.ndarray, nodes: NodeCloud, chunk: int = 65536):
     pts, nds = [], []
     for s in range(0, len(xn), chunk):  # bounded memory: the lists of one chunk of nodes
         found = tree.query_ball_point(xn[s:s + chunk], r[s:s + chunk] * (1 + 1e-9),
-                                      return_sorted=False, workers=-1)
+                                      return_sorted=False,
+                                      workers=-1 if len(xn) >= THREADED else 1)
         lengths = np.fromiter(map(len, found), np.int64, len(found))
         q = np.fromiter(chain.from_iterable(found), np.int64, int(lengths.sum()))
         I = np.repeat(np.arange(s, s + len(found)), lengths)

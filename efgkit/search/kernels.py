@@ -10,6 +10,9 @@ members of its one box (no neighbouring boxes to visit).
 
 Every loop runs over nodes, strips, boxes or points once; the query loops are parallel.
 The two query passes (count, then fill) keep the memory to what the neighbour graph needs.
+The registration also copies each member's ``(x, y, d_mI^2)`` into
+``packed (n_registrations, 3)`` in box order, so the query passes read their candidates
+as one contiguous run instead of gathering coordinates and radii node by node.
 """
 
 from __future__ import annotations
@@ -19,9 +22,30 @@ from numba import njit, prange
 
 from ..timing import watch_compiles
 
-__all__ = ["strip_edges", "register", "count_neighbours", "fill_padded", "fill_csr"]
+__all__ = ["extent", "strip_edges", "register", "box_index", "count_neighbours", "fill_padded", "fill_csr",
+           "csr_serial"]
 
 watch_compiles()  # before anything here compiles
+
+
+@njit(cache=True)
+def extent(x, r):
+    """One pass over the nodes: ``low (2,)`` = min(x_I - d_mI), ``high (2,)`` = max(x_I + d_mI)
+    per axis, the number of nodes with a non-finite coordinate and of bad radii (not finite
+    and > 0); the same numbers as numpy's reductions, without their temporaries."""
+    low = np.full(2, np.inf)
+    high = np.full(2, -np.inf)
+    bad_x, bad_r = 0, 0
+    for i in range(len(x)):
+        ri = r[i]
+        if not (np.isfinite(x[i, 0]) and np.isfinite(x[i, 1])):
+            bad_x += 1
+        if not (ri > 0 and np.isfinite(ri)):
+            bad_r += 1
+        for k in range(2):
+            low[k] = min(low[k], x[i, k] - ri)
+            high[k] = max(high[k], x[i, k] + ri)
+    return low, high, bad_x, bad_r
 
 
 @njit(cache=True)
@@ -113,7 +137,8 @@ def _visit(x, r, axis, edges, side, offset, lo, counts, members, fill):
 
 @njit(cache=True)
 def register(x, r, axis, edges, side, offset, lo):
-    """CSR box lists: ``start (n_boxes + 1,)`` and ``members (n_registrations,)``."""
+    """CSR box lists: ``start (n_boxes + 1,)``, ``members (n_registrations,)`` and the
+    members' ``packed (n_registrations, 3)`` = (x, y, d_mI^2)."""
     n_boxes = offset[-1]
     counts = np.zeros(n_boxes, np.int64)
     members = np.zeros(0, np.int64)
@@ -124,11 +149,33 @@ def register(x, r, axis, edges, side, offset, lo):
     members = np.empty(start[-1], np.int64)
     cursor = start[:-1].copy()
     _visit(x, r, axis, edges, side, offset, lo, cursor, members, True)
-    return start, members
+    packed = np.empty((len(members), 3))  # a gather in box order: sequential writes
+    for k in range(len(members)):
+        i = members[k]
+        packed[k, 0] = x[i, 0]
+        packed[k, 1] = x[i, 1]
+        packed[k, 2] = r[i] * r[i]
+    return start, members, packed
 
 
 @njit(cache=True, parallel=True)
-def count_neighbours(x, box, start, members, xn, r):
+def box_index(x, axis, edges, side, offset, lo):
+    """Box of every point ``x (n, 2)``, shape (n,); -1 outside the grid (the rule of
+    :meth:`efgkit.search.BoxGrid.box_of`: strip by binary search, then floor((c - lo) / side))."""
+    out = np.empty(len(x), np.int64)
+    other = 1 - axis
+    for q in prange(len(x)):
+        s = _strip_of(edges, x[q, axis])
+        out[q] = -1
+        if s >= 0:
+            j = np.floor((x[q, other] - lo) / side[s])
+            if j >= 0 and j < offset[s + 1] - offset[s]:
+                out[q] = offset[s] + np.int64(j)
+    return out
+
+
+@njit(cache=True, parallel=True)
+def count_neighbours(x, box, start, packed):
     """Number of nodes I with |x_q - x_I| < r_I for every point, shape (n,)."""
     count = np.zeros(len(x), np.int64)
     for q in prange(len(x)):
@@ -136,18 +183,17 @@ def count_neighbours(x, box, start, members, xn, r):
         if b < 0:
             continue
         c = 0
+        x0, y0 = x[q, 0], x[q, 1]
         for a in range(start[b], start[b + 1]):
-            I = members[a]
-            dx = xn[I, 0] - x[q, 0]
-            dy = xn[I, 1] - x[q, 1]
-            if dx * dx + dy * dy < r[I] * r[I]:
-                c += 1
+            dx = packed[a, 0] - x0
+            dy = packed[a, 1] - y0
+            c += dx * dx + dy * dy < packed[a, 2]
         count[q] = c
     return count
 
 
 @njit(cache=True, parallel=True)
-def fill_padded(x, box, start, members, xn, r, kmax):
+def fill_padded(x, box, start, members, packed, kmax):
     """Padded neighbour indices ``(n, kmax)``, valid entries first and ascending."""
     idx = np.zeros((len(x), kmax), np.int64)
     for q in prange(len(x)):
@@ -155,18 +201,18 @@ def fill_padded(x, box, start, members, xn, r, kmax):
         if b < 0:
             continue
         c = 0
+        x0, y0 = x[q, 0], x[q, 1]
         for a in range(start[b], start[b + 1]):
-            I = members[a]
-            dx = xn[I, 0] - x[q, 0]
-            dy = xn[I, 1] - x[q, 1]
-            if dx * dx + dy * dy < r[I] * r[I]:
-                idx[q, c] = I
+            dx = packed[a, 0] - x0
+            dy = packed[a, 1] - y0
+            if dx * dx + dy * dy < packed[a, 2]:
+                idx[q, c] = members[a]
                 c += 1
     return idx
 
 
 @njit(cache=True, parallel=True)
-def fill_csr(x, box, start, members, xn, r, indptr):
+def fill_csr(x, box, start, members, packed, indptr):
     """CSR neighbour indices ``(indptr[-1],)``, each row ascending."""
     out = np.empty(indptr[-1], np.int64)
     for q in prange(len(x)):
@@ -174,11 +220,50 @@ def fill_csr(x, box, start, members, xn, r, indptr):
         if b < 0:
             continue
         c = indptr[q]
+        x0, y0 = x[q, 0], x[q, 1]
         for a in range(start[b], start[b + 1]):
-            I = members[a]
-            dx = xn[I, 0] - x[q, 0]
-            dy = xn[I, 1] - x[q, 1]
-            if dx * dx + dy * dy < r[I] * r[I]:
-                out[c] = I
+            dx = packed[a, 0] - x0
+            dy = packed[a, 1] - y0
+            if dx * dx + dy * dy < packed[a, 2]:
+                out[c] = members[a]
                 c += 1
     return out
+
+
+@njit(cache=True)
+def csr_serial(x, box, start, members, packed, chunk=4096):
+    """One pass of count and fill on one thread: ``indptr (n + 1,)`` and ``indices``.
+
+    The points are taken ``chunk`` at a time; a chunk's lists go to a scratch array of at
+    most ``chunk`` times the largest box, then to the output, whose size is estimated from
+    the lists found so far and grown by half when short (the final trim is one copy of
+    the output; the count pass this replaces read every candidate a second time).
+    """
+    n = len(x)
+    indptr = np.zeros(n + 1, np.int64)
+    widest = 0
+    for b in range(len(start) - 1):
+        widest = max(widest, start[b + 1] - start[b])
+    scratch = np.empty(min(n, chunk) * widest, np.int64)
+    out = np.empty(0, np.int64)
+    for q0 in range(0, n, chunk):
+        q1 = min(n, q0 + chunk)
+        c = 0
+        for q in range(q0, q1):
+            b = box[q]
+            if b >= 0:
+                x0, y0 = x[q, 0], x[q, 1]
+                for a in range(start[b], start[b + 1]):
+                    dx = packed[a, 0] - x0
+                    dy = packed[a, 1] - y0
+                    if dx * dx + dy * dy < packed[a, 2]:
+                        scratch[c] = members[a]
+                        c += 1
+            indptr[q + 1] = indptr[q0] + c
+        need = indptr[q1]
+        if need > len(out):  # estimate the total from the rows so far, 5 % over
+            grown = np.empty(max(need, int(1.05 * need * n / q1) + 16), np.int64)
+            grown[:indptr[q0]] = out[:indptr[q0]]
+            out = grown
+        out[indptr[q0]:need] = scratch[:c]
+    return indptr, out[:indptr[n]].copy() if len(out) > indptr[n] else out

@@ -122,14 +122,18 @@ def neighbour_lists(x: np.ndarray, nodes: NodeCloud, boxes: BoxGrid | None = Non
     grid = _grid(x, nodes, boxes, method)
     if grid is None:
         return kdtree_lists(x, nodes)
-    from .kernels import count_neighbours, fill_csr
+    import numba
+
+    from .kernels import box_index, count_neighbours, csr_serial, fill_csr
 
     with _threads(len(x)):
-        box = grid.box_of(x)
-        count = count_neighbours(x, box, grid.start, grid.members, nodes.x, nodes.radius)
+        box = box_index(x, grid.axis, grid.edges, grid.side, grid.offset, grid.lo)
+        if numba.get_num_threads() == 1:  # one pass: count and fill together
+            return csr_serial(x, box, grid.start, grid.members, grid.packed)
+        count = count_neighbours(x, box, grid.start, grid.packed)
         indptr = np.zeros(len(x) + 1, np.int64)
         np.cumsum(count, out=indptr[1:])
-        return indptr, fill_csr(x, box, grid.start, grid.members, nodes.x, nodes.radius, indptr)
+        return indptr, fill_csr(x, box, grid.start, grid.members, grid.packed, indptr)
 
 
 def find_neighbours(x: np.ndarray, nodes: NodeCloud, boxes: BoxGrid | None = None,
@@ -167,11 +171,11 @@ def find_neighbours(x: np.ndarray, nodes: NodeCloud, boxes: BoxGrid | None = Non
         idx = np.zeros((len(x), kmax), np.int64)
         idx[mask] = indices
         return Neighbours(idx, mask)
-    from .kernels import count_neighbours, fill_padded
+    from .kernels import box_index, count_neighbours, fill_padded
 
     with _threads(len(x)):
-        box = grid.box_of(x)
-        count = count_neighbours(x, box, grid.start, grid.members, nodes.x, nodes.radius)
+        box = box_index(x, grid.axis, grid.edges, grid.side, grid.offset, grid.lo)
+        count = count_neighbours(x, box, grid.start, grid.packed)
         kmax = int(count.max()) if len(x) else 0
-        idx = fill_padded(x, box, grid.start, grid.members, nodes.x, nodes.radius, kmax)
+        idx = fill_padded(x, box, grid.start, grid.members, grid.packed, kmax)
     return Neighbours(idx, np.arange(kmax)[None, :] < count[:, None])
