@@ -1,26 +1,32 @@
 """Stiffness assembly against scikit-fem P2 at equal unknowns, interleaved in one process;
 written to the ``assembly`` section of docs/performance.md.
 
-Run:  NUMBA_NUM_THREADS=2 python benchmarks/assembly.py             (~20k and ~100k unknowns)
-      python benchmarks/assembly.py --quick                         (a smoke run)
+Run:  PYTHONPATH=. NUMBA_NUM_THREADS=2 python benchmarks/assembly.py   (~20k and ~100k unknowns)
+      PYTHONPATH=. python benchmarks/assembly.py --quick --before ""  (a smoke run)
 
 EFG: unit square of n x n nodes, 4 x 4 Gauss points per cell of one spacing (points sorted
 by box, as the discretisation does), MLS linear basis, d_max 2.5 and 2.0; timed is the call
-``stiffness(shape, w, D)`` (pattern, point lists of the functions, blocks, CSR) and, apart,
-the pattern with the point lists alone. scikit-fem: ``asm(linear_elasticity, basis)`` of
+``stiffness(shape, w, D)`` (point lists of the functions, pattern and blocks, CSR) and,
+apart, the point lists alone; with ``--before REV`` also the row kernels of git
+revision REV (pattern pass, blocks pass, mirror, BSR to CSR) on the same shape
+functions, whose K is compared with today's, and their pattern alone (point lists and
+column pattern). scikit-fem: ``asm(linear_elasticity, basis)`` of
 vector P2 on a structured triangle mesh with (2m + 1)^2 nodes, the ``Basis`` built once
 outside the timing. Each round times EFG (every d_max) then scikit-fem, one after the other
-(A, B, A, B, ...); the ratio of each round is EFG / scikit-fem of that round, reported as
+(A, B, A, B, ...); each ratio of each round is EFG / scikit-fem of that round, reported as
 the median with its quartiles over the rounds. One warm-up round compiles the kernels.
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import json
 import platform
 import re
+import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -52,15 +58,41 @@ def efg_case(n_dofs: int, d_max: float) -> dict:
             "n_dofs": 2 * nodes.n, "n_points": len(x), "neighbours_mean": float(nb.counts.mean())}
 
 
-def efg_pattern(sh):
-    """The pattern of K alone (the point lists of the functions and the column pattern)."""
+def previous_kernels(rev: str):
+    """efgkit/system/kernels.py of git revision ``rev`` as a module (None without git)."""
+    try:
+        src = subprocess.run(["git", "-C", str(ROOT), "show", f"{rev}:efgkit/system/kernels.py"],
+                             capture_output=True, text=True, check=True).stdout
+    except (OSError, subprocess.CalledProcessError):
+        return None
+    path = Path(tempfile.gettempdir()) / "efgkit_assembly_before" / f"kernels_{rev}.py"
+    src = src.replace("from ..timing import", "from efgkit.timing import")
+    if not path.exists() or path.read_text() != src:  # keep numba's cache of it
+        path.parent.mkdir(exist_ok=True)
+        path.write_text(src)
+    spec = importlib.util.spec_from_file_location(f"kernels_{rev}", path)
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = mod  # numba's cache looks the module up by name
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def stiffness_before(old, sh, w, D, pattern_only=False):
+    """Symmetric K (or its pattern) by the kernels ``old`` of :func:`previous_kernels`: point
+    lists, column pattern (two passes), blocks J >= I, mirror, BSR to CSR."""
     import numba
+    from scipy.sparse import bsr_array, csr_array
 
-    from efgkit.system.kernels import pattern
-
-    t_ptr, t_point, _ = point_to_function_map(sh)
-    nb = sh.neighbours
-    return pattern(t_ptr, t_point, nb.idx, nb.mask, sh.n_functions, numba.get_num_threads())
+    threads, nb = numba.get_num_threads(), sh.neighbours
+    t_ptr, t_point, t_slot = old.transpose_padded(nb.idx, nb.mask, sh.n_functions)
+    indptr, cols = old.pattern(t_ptr, t_point, nb.idx, nb.mask, sh.n_functions, threads)
+    if pattern_only:
+        return indptr, cols
+    data = old.stiffness_blocks(indptr, cols, t_ptr, t_point, t_slot, sh.ddx, sh.ddy, nb.idx,
+                                nb.mask, sh.ddx, sh.ddy, w, D, True, threads)
+    old.mirror_upper(indptr, cols, data)
+    n2 = 2 * sh.n_functions
+    return csr_array(bsr_array((data, cols, indptr), shape=(n2, n2)).tocsr())
 
 
 def fem_case(n_dofs: int):
@@ -85,25 +117,38 @@ def quartiles(v):
     return {"median": float(q[1]), "q25": float(q[0]), "q75": float(q[2])}
 
 
-def measure(n_dofs: int, rounds: int, d_maxes=(2.5, 2.0)) -> dict:
-    """Interleaved rounds at about ``n_dofs`` unknowns."""
+def measure(n_dofs: int, rounds: int, old=None, d_maxes=(2.5, 2.0)) -> dict:
+    """Interleaved rounds at about ``n_dofs`` unknowns (``old``: kernels of a revision)."""
     from skfem import asm
 
     D = Elastic(1.0, 0.3).D
     cases = [efg_case(n_dofs, d) for d in d_maxes]
     basis, form = fem_case(n_dofs)
-    t = {"fem": [], **{f"efg_{c['d_max']}": [] for c in cases},
-         **{f"pattern_{c['d_max']}": [] for c in cases}}
-    nnz = {}
+    t = {"fem": []}
+    nnz, diff = {}, {}
     for r in range(rounds + 1):  # round 0: warm-up (compiles), not counted
         for c in cases:
-            tk, K = clock(lambda c=c: stiffness(c["shape"], c["w"], D))
-            tp, _ = clock(lambda c=c: efg_pattern(c["shape"]))
-            nnz[c["d_max"]] = int(K.nnz)
-            del K
-            if r:
-                t[f"efg_{c['d_max']}"].append(tk)
-                t[f"pattern_{c['d_max']}"].append(tp)
+            sh, w, d = c["shape"], c["w"], c["d_max"]
+            runs = {f"efg_{d}": lambda sh=sh, w=w: stiffness(sh, w, D),
+                    f"lists_{d}": lambda sh=sh: point_to_function_map(sh)}
+            if old is not None:
+                runs[f"before_{d}"] = lambda sh=sh, w=w: stiffness_before(old, sh, w, D)
+                runs[f"before_pattern_{d}"] = \
+                    lambda sh=sh, w=w: stiffness_before(old, sh, w, D, True)
+            out = {}
+            for key, fn in runs.items():
+                dt, out[key] = clock(fn)
+                if r:
+                    t.setdefault(key, []).append(dt)
+                if key == f"before_{d}":  # same pattern, values to rounding
+                    K, Kb = out[f"efg_{d}"], out[key]
+                    Kb.sort_indices()
+                    rel = float(abs(K - Kb).max() / abs(Kb).max())
+                    pattern = np.array_equal(K.indptr, Kb.indptr) and np.array_equal(
+                        K.indices, Kb.indices)
+                    diff[d] = max(diff.get(d, 0.0), rel if pattern else np.inf)
+            nnz[d] = int(out[f"efg_{d}"].nnz)
+            del out
         tf, Kf = clock(lambda: asm(form, basis))
         nnz["fem"] = int(Kf.nnz)
         del Kf
@@ -114,12 +159,17 @@ def measure(n_dofs: int, rounds: int, d_maxes=(2.5, 2.0)) -> dict:
            "efg": []}
     for c in cases:
         d = c["d_max"]
-        efg, pat = np.array(t[f"efg_{d}"]), np.array(t[f"pattern_{d}"])
-        out["efg"].append({"d_max": d, "n_dofs": c["n_dofs"], "n_points": c["n_points"],
-                           "neighbours_mean": c["neighbours_mean"], "K_nnz": nnz[d],
-                           "stiffness_s": quartiles(efg), "pattern_s": quartiles(pat),
-                           "ratio": quartiles(efg / fem),
-                           "pattern_share": quartiles(pat / efg)})
+        efg, lists = np.array(t[f"efg_{d}"]), np.array(t[f"lists_{d}"])
+        row = {"d_max": d, "n_dofs": c["n_dofs"], "n_points": c["n_points"],
+               "neighbours_mean": c["neighbours_mean"], "K_nnz": nnz[d],
+               "stiffness_s": quartiles(efg), "lists_s": quartiles(lists),
+               "ratio": quartiles(efg / fem)}
+        if old is not None:
+            b, bp = np.array(t[f"before_{d}"]), np.array(t[f"before_pattern_{d}"])
+            row.update({"before_s": quartiles(b), "before_pattern_s": quartiles(bp),
+                        "before_ratio": quartiles(b / fem), "speedup": quartiles(b / efg),
+                        "K_max_rel_diff": diff[d]})
+        out["efg"].append(row)
     return out
 
 
@@ -129,21 +179,33 @@ def markdown(res: dict, cmd: str) -> str:
              f"Command: `{cmd}` ({res['machine']}, {res['date']}, {res['threads']} numba "
              f"threads; a shared 2-core machine with other jobs running). {res['rounds']} "
              "rounds after a warm-up, each round timing the EFG `stiffness(shape, w, D)` "
-             "calls and the pattern alone, then scikit-fem `asm` of vector P2 elasticity at "
-             "about the same number of unknowns (the `Basis` built outside the timing); the "
-             "ratio is taken per round, median [quartiles] over the rounds.", "",
-             "| unknowns EFG / P2 | d_max | points | nonzeros EFG / P2 | EFG stiffness s | "
-             "of which pattern s | P2 asm s | ratio EFG / P2 |",
-             "|---|---|---|---|---|---|---|---|"]
+             "call, its point lists of the functions alone, the kernels of revision "
+             f"`{res['before']}` (before) on the same shape functions and their pattern "
+             "alone, then scikit-fem `asm` of vector P2 elasticity at about the same number "
+             "of unknowns (the `Basis` built outside the timing); each ratio is taken per "
+             "round, median [quartiles] over the rounds. K against the one before: the same "
+             "indptr and indices, and max |K - K_before| / max |K_before| (rounding: the "
+             "products are grouped differently).", "",
+             "| unknowns EFG / P2 | d_max | points | nonzeros EFG / P2 | P2 asm s | before s "
+             "(of which pattern) | **EFG / P2 before** | now s (of which point lists) | "
+             "**EFG / P2 now** | speed-up | K difference |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
+
+    def q(v):
+        return f"**{v['median']:.2f}** [{v['q25']:.2f}, {v['q75']:.2f}]"
+
     for row in res["rows"]:
         f = row["fem_s"]
         for e in row["efg"]:
-            r = e["ratio"]
+            before = (f"{e['before_s']['median']:.3f} ({e['before_pattern_s']['median']:.3f}) | "
+                      f"{q(e['before_ratio'])}" if "before_s" in e else "| ")
             lines.append(
                 f"| {e['n_dofs']} / {row['n_dofs_fem']} | {e['d_max']} | {e['n_points']} | "
-                f"{e['K_nnz']} / {row['K_nnz_fem']} | {e['stiffness_s']['median']:.3f} | "
-                f"{e['pattern_s']['median']:.3f} | {f['median']:.3f} | "
-                f"**{r['median']:.2f}** [{r['q25']:.2f}, {r['q75']:.2f}] |")
+                f"{e['K_nnz']} / {row['K_nnz_fem']} | {f['median']:.3f} | {before} | "
+                f"{e['stiffness_s']['median']:.3f} ({e['lists_s']['median']:.3f}) | "
+                f"{q(e['ratio'])} | "
+                + (f"{q(e['speedup'])} | {e['K_max_rel_diff']:.1e} |"
+                   if "before_s" in e else " | |"))
     lines += ["", *res.get("notes", []), "<!-- end:assembly -->", ""]
     return "\n".join(lines)
 
@@ -163,17 +225,21 @@ def main(argv=None) -> dict:
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--rounds", type=int, default=7)
     ap.add_argument("--dofs", type=int, nargs="+", default=[20_000, 100_000])
+    ap.add_argument("--before", default="d11158e",
+                    help="git revision of the old row kernels ('' to skip)")
     ap.add_argument("--no-write", action="store_true", help="do not write docs/performance.md")
     args = ap.parse_args(argv)
     from numba import get_num_threads
 
     sizes = [20_000] if args.quick else args.dofs
     rounds = 2 if args.quick else args.rounds
+    old = previous_kernels(args.before) if args.before else None
     res = {"machine": f"{platform.machine()}, {platform.python_implementation()} "
                       f"{platform.python_version()}", "date": time.strftime("%Y-%m-%d"),
-           "threads": get_num_threads(), "rounds": rounds,
-           "rows": [{"n_dofs": n, **measure(n, rounds)} for n in sizes]}
-    cmd = "NUMBA_NUM_THREADS=2 python benchmarks/assembly.py" + (" --quick" if args.quick else "")
+           "threads": get_num_threads(), "rounds": rounds, "before": args.before,
+           "rows": [{"n_dofs": n, **measure(n, rounds, old)} for n in sizes]}
+    cmd = ("PYTHONPATH=. NUMBA_NUM_THREADS=2 python benchmarks/assembly.py"
+           + (" --quick" if args.quick else "") + (f" --rounds {rounds}" if rounds != 7 else ""))
     if not args.no_write:
         write_section(markdown(res, cmd), ROOT / "docs" / "performance.md")
         write_json(res, ROOT / "benchmarks" / "out" / "assembly.json")
