@@ -8,9 +8,10 @@ Stiffness (seed 003 Eq. 22a) with test functions v and trial functions phi
 DOFs are node-major interleaved (2 I + c), so K is a block-sparse matrix with
 2 x 2 blocks. The compiled kernel visits each row I once, runs over the
 quadrature points in I's test support and adds their contributions straight
-into the row's blocks (no per-point dense matrices, no duplicate summation).
+into the row's blocks (no per-point dense matrices, no duplicate summation),
+finding the row's pattern in the same pass (:mod:`efgkit.system.kernels`).
 For Bubnov-Galerkin (v = phi) with a symmetric D it forms only the blocks
-J >= I and mirrors them, K_JI = K_IJ^T (half the products). The numpy reference
+J >= I and writes K_JI = K_IJ^T (half the products). The numpy reference
 forms the same matrix with scipy.sparse products.
 """
 
