@@ -28,20 +28,22 @@ __all__ = ["stiffness", "load_vector", "lumped_mass", "point_to_function_map"]
 
 def point_to_function_map(shape: Shape):
     """For each shape function, the quadrature points in its support, ascending: CSR triplet
-    (indptr (n_functions + 1,) int64, point (nnz,) int32, slot (nnz,) int32; int64 from
-    2**31 points on) with
+    (indptr (n_functions + 1,) int64, point (nnz,), slot (nnz,)) with
     ``shape.neighbours.idx[point, slot]`` the function."""
     import numba
 
-    return _lists(shape, numba.get_num_threads())[:3]
+    indptr, pos, _ = _lists(shape, numba.get_num_threads())
+    point, slot = np.divmod(pos, shape.neighbours.idx.shape[1])
+    return indptr, point, slot
 
 
 def _lists(shape: Shape, threads: int):
-    """:func:`point_to_function_map` and whether the rows of the neighbour lists ascend."""
+    """The points of each function as (indptr, pos = q k + a) and whether the rows of the
+    neighbour lists ascend (:func:`efgkit.system.kernels.transpose_padded`)."""
     from .kernels import transpose_padded
 
     nb = shape.neighbours
-    like = np.empty(0, np.int32 if nb.idx.shape[0] < 2**31 else np.int64)
+    like = np.empty(0, np.int32 if nb.idx.size < 2**31 else np.int64)  # for q k + a
     return transpose_padded(nb.idx, nb.mask, shape.n_functions, threads, like)
 
 
@@ -55,7 +57,7 @@ def _compiled(test: Shape, trial: Shape, w: np.ndarray, D: np.ndarray) -> csr_ar
 
     threads = numba.get_num_threads()
     nb = trial.neighbours
-    t_ptr, t_point, t_slot, ascending = _lists(test, threads)
+    t_ptr, t_pos, ascending = _lists(test, threads)
     n, m = test.n_functions, trial.n_functions
     symmetric = test is trial and np.array_equal(D, D.T)  # K_JI = K_IJ^T: half the work
     n_chunks = 4 * max(threads, 2)  # several even on one thread: one code path
@@ -64,7 +66,7 @@ def _compiled(test: Shape, trial: Shape, w: np.ndarray, D: np.ndarray) -> csr_ar
     width = nb.idx.shape[1] * (2 if symmetric else 4)  # about the blocks of a row
 
     def run(r):
-        return block_rows(r[0], r[1], t_ptr, t_point, t_slot, test.ddx, test.ddy, nb.idx,
+        return block_rows(r[0], r[1], t_ptr, t_pos, test.ddx, test.ddy, nb.idx,
                           nb.mask, trial.ddx, trial.ddy, w, D, symmetric, ascending, m,
                           (r[1] - r[0]) * width)
 

@@ -26,12 +26,13 @@ watch_compiles()
 
 @njit(cache=True, parallel=True)
 def transpose_padded(idx, mask, n_functions, n_threads, like):
-    """Points of each function: CSR (indptr (n_functions+1,) int64, point (nnz,), slot
-    (nnz,) of the integer type of ``like``), the points of a function ascending, and whether the valid entries
-    of every row of ``idx`` ascend (then the functions J >= idx[q, a] of point q are those
-    in the slots b >= a). Thread ``t`` counts and then fills the points of its chunk; its
-    entries of function I start after those of the chunks before it, so the order is that
-    of a serial pass."""
+    """Points of each function: CSR (indptr (n_functions+1,) int64, pos (nnz,) of the
+    integer type of ``like``) with ``pos = q k + a`` for the entry ``idx[q, a]`` of point
+    q (one array: half the scattered writes of separate point and slot arrays), the points
+    of a function ascending, and whether the valid entries of every row of ``idx`` ascend
+    (then the functions J >= idx[q, a] of point q are those in the slots b >= a). Thread
+    ``t`` counts and then fills the points of its chunk; its entries of function I start
+    after those of the chunks before it, so the order is that of a serial pass."""
     n, k = idx.shape
     chunk = (n + n_threads - 1) // n_threads
     counts = np.zeros((n_threads, n_functions), np.int64)
@@ -54,30 +55,29 @@ def transpose_padded(idx, mask, n_functions, n_threads, like):
             counts[t, I] = s  # now: where chunk t's entries of function I start
             s += c
         indptr[I + 1] = s
-    point = np.empty(indptr[-1], like.dtype)
-    slot = np.empty(indptr[-1], like.dtype)
+    pos = np.empty(indptr[-1], like.dtype)
     for t in prange(n_threads):
         for q in range(t * chunk, min(n, (t + 1) * chunk)):
             for a in range(k):
                 if mask[q, a]:
                     I = idx[q, a]
                     f = counts[t, I]
-                    point[f] = q
-                    slot[f] = a
+                    pos[f] = q * k + a
                     counts[t, I] = f + 1
-    return indptr, point, slot, unsorted.sum() == 0
+    return indptr, pos, unsorted.sum() == 0
 
 
 @njit(cache=True, nogil=True)
-def block_rows(r0, r1, t_ptr, t_point, t_slot, tgx, tgy, trial_idx, trial_mask, gx, gy, w, D,
+def block_rows(r0, r1, t_ptr, t_pos, tgx, tgy, trial_idx, trial_mask, gx, gy, w, D,
                upper, ascending, n_cols, capacity):
     """Block rows ``r0 <= I < r1`` of K: (lengths (r1 - r0,), cols (nnz,) int32 ascending
     per row, blocks (nnz, 2, 2)); with ``upper`` only the blocks J >= I (with
     ``ascending`` rows of ``trial_idx``, those in the slots from I's own on).
 
     ``K_IJ += w_q B_I^v(x_q)^T D B_J(x_q)`` summed over the points q of test function I in
-    the order of ``t_point``, into ``acc[J]``; J is listed the first time it is met
-    (``marker[J] = I``). With ``(ax, ay) = w_q grad v_I`` and ``(bx, by) = grad phi_J``,
+    the order of ``t_pos`` (:func:`transpose_padded` of the test functions), into
+    ``acc[J]``; J is listed the first time it is met (``marker[J] = I``). With
+    ``(ax, ay) = w_q grad v_I`` and ``(bx, by) = grad phi_J``,
     ``B_I^T D B_J = [[bx c0 + by c1, bx c1 + by c3], [bx c4 + by c5, bx c5 + by c7]]``
     for any D (symmetric or not), with ``c0 = ax D00 + ay D20``, ``c1 = ax D02 + ay D22``,
     ``c3 = ax D01 + ay D21``, ``c4 = ay D10 + ax D20``, ``c5 = ay D12 + ax D22``,
@@ -86,6 +86,7 @@ def block_rows(r0, r1, t_ptr, t_point, t_slot, tgx, tgy, trial_idx, trial_mask, 
     threads.
     """
     k = trial_idx.shape[1]
+    k_test = tgx.shape[1]
     acc = np.zeros((max(n_cols, 1), 2, 2))
     marker = np.full(max(n_cols, 1), -1, np.int64)
     found = np.empty(max(n_cols, 1), np.int32)
@@ -97,8 +98,8 @@ def block_rows(r0, r1, t_ptr, t_point, t_slot, tgx, tgy, trial_idx, trial_mask, 
     for I in range(r0, r1):
         n_found = 0
         for p in range(t_ptr[I], t_ptr[I + 1]):
-            q = t_point[p]
-            a = t_slot[p]
+            q = t_pos[p] // k_test
+            a = t_pos[p] - q * k_test
             ax = w[q] * tgx[q, a]
             ay = w[q] * tgy[q, a]
             c0 = ax * D[0, 0] + ay * D[2, 0]
