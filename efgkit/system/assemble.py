@@ -212,7 +212,8 @@ def _with_enrichment(shape: Shape, w, D, backend) -> csr_array:
     K_ne = nodal_rows(sig)
     K_en = K_ne.T if np.array_equal(D, D.T) else nodal_rows(stresses(D.T)).T  # E^T D B
     K_ee = csr_array(sum(eps[i].T @ sig[i] for i in range(3)))
-    return csr_array(bmat([[K_nn, K_ne], [K_en, K_ee]], format="csr"))
+    # all blocks CSR: scipy stacks the index arrays (no COO copy of K_nn on the way)
+    return csr_array(bmat([[K_nn, K_ne], [csr_array(K_en), K_ee]], format="csr"))
 
 
 def _petrov_enriched(trial: Shape, test: Shape, w, D, backend) -> csr_array:
