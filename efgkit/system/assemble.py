@@ -8,16 +8,17 @@ Stiffness (seed 003 Eq. 22a) with test functions v and trial functions phi
 DOFs are node-major interleaved (2 I + c), so K is a block-sparse matrix with
 2 x 2 blocks. The compiled kernel visits each row I once, runs over the
 quadrature points in I's test support and adds their contributions straight
-into the row's blocks (no per-point dense matrices, no duplicate summation).
+into the row's blocks (no per-point dense matrices, no duplicate summation),
+finding the row's pattern in the same pass (:mod:`efgkit.system.kernels`).
 For Bubnov-Galerkin (v = phi) with a symmetric D it forms only the blocks
-J >= I and mirrors them, K_JI = K_IJ^T (half the products). The numpy reference
+J >= I and writes K_JI = K_IJ^T (half the products). The numpy reference
 forms the same matrix with scipy.sparse products.
 """
 
 from __future__ import annotations
 
 import numpy as np
-from scipy.sparse import bmat, bsr_array, csr_array, diags_array, vstack
+from scipy.sparse import bmat, csr_array, diags_array, vstack
 
 from ..approx.shape import Shape
 from ..jit import resolve_backend
@@ -26,11 +27,71 @@ __all__ = ["stiffness", "load_vector", "lumped_mass", "point_to_function_map"]
 
 
 def point_to_function_map(shape: Shape):
-    """For each shape function, the quadrature points in its support (CSR triplet)."""
+    """For each shape function, the quadrature points in its support, ascending: CSR triplet
+    (indptr (n_functions + 1,) int64, point (nnz,), slot (nnz,)) with
+    ``shape.neighbours.idx[point, slot]`` the function."""
+    import numba
+
+    indptr, pos, _ = _lists(shape, numba.get_num_threads())
+    point, slot = np.divmod(pos, shape.neighbours.idx.shape[1])
+    return indptr, point, slot
+
+
+def _lists(shape: Shape, threads: int):
+    """The points of each function as (indptr, pos = q k + a) and whether the rows of the
+    neighbour lists ascend (:func:`efgkit.system.kernels.transpose_padded`)."""
     from .kernels import transpose_padded
 
     nb = shape.neighbours
-    return transpose_padded(nb.idx, nb.mask, shape.n_functions)
+    like = np.empty(0, np.int32 if nb.idx.size < 2**31 else np.int64)  # for q k + a
+    return transpose_padded(nb.idx, nb.mask, shape.n_functions, threads, like)
+
+
+def _compiled(test: Shape, trial: Shape, w: np.ndarray, D: np.ndarray) -> csr_array:
+    """K by the compiled row kernel (module docstring of :mod:`efgkit.system.kernels`): the
+    rows in chunks of about equal numbers of (function, point) pairs, run on
+    ``numba.get_num_threads()`` threads (the kernel releases the GIL), then scalar CSR."""
+    import numba
+
+    from .kernels import block_rows, lower_part, scalar_csr
+
+    threads = numba.get_num_threads()
+    nb = trial.neighbours
+    t_ptr, t_pos, ascending = _lists(test, threads)
+    n, m = test.n_functions, trial.n_functions
+    symmetric = test is trial and np.array_equal(D, D.T)  # K_JI = K_IJ^T: half the work
+    n_chunks = 4 * max(threads, 2)  # several even on one thread: one code path
+    cuts = np.searchsorted(t_ptr, np.linspace(0, t_ptr[-1], n_chunks + 1)[1:-1])
+    bounds = np.unique(np.concatenate([[0], cuts, [n]]))
+    width = nb.idx.shape[1] * (2 if symmetric else 4)  # about the blocks of a row
+
+    def run(r):
+        return block_rows(r[0], r[1], t_ptr, t_pos, test.ddx, test.ddy, nb.idx,
+                          nb.mask, trial.ddx, trial.ddy, w, D, symmetric, ascending, m,
+                          (r[1] - r[0]) * width)
+
+    rows = list(zip(bounds[:-1], bounds[1:], strict=True))
+    if threads > 1 and len(rows) > 1:
+        from concurrent.futures import ThreadPoolExecutor
+
+        with ThreadPoolExecutor(threads) as pool:
+            parts = list(pool.map(run, rows))
+    else:
+        parts = [run(r) for r in rows]
+    u_ptr = np.zeros(n + 1, np.int64)
+    np.cumsum(np.concatenate([p[0] for p in parts]), out=u_ptr[1:])
+    u_cols = np.concatenate([p[1] for p in parts])
+    u_data = np.concatenate([p[2] for p in parts])
+    del parts
+    if symmetric:
+        l_ptr, l_row, l_src = lower_part(u_ptr, u_cols)
+    else:
+        l_ptr, l_row, l_src = np.zeros(n + 1, np.int64), np.empty(0, np.int32), np.empty(0, np.int64)
+    nnz = 4 * (int(u_ptr[-1]) + int(l_ptr[-1]))
+    index = np.int32 if max(nnz, 2 * m) < 2**31 else np.int64
+    indptr, indices, values = np.empty(2 * n + 1, index), np.empty(nnz, index), np.empty(nnz)
+    scalar_csr(u_ptr, u_cols, u_data, l_ptr, l_row, l_src, indptr, indices, values)
+    return csr_array((values, indices, indptr), shape=(2 * n, 2 * m))
 
 
 def _stiffness_numpy(test: Shape, trial: Shape, w: np.ndarray, D: np.ndarray) -> csr_array:
@@ -109,22 +170,7 @@ def stiffness(trial: Shape, w: np.ndarray, D: np.ndarray, test: Shape | None = N
         raise ValueError("stiffness needs shape-function derivatives (derivatives=True)")
     if backend == "numpy":
         return _stiffness_numpy(test, trial, w, np.asarray(D, dtype=float))
-    import numba
-
-    from .kernels import mirror_upper, pattern, stiffness_blocks
-
-    threads = numba.get_num_threads()
-    t_ptr, t_point, t_slot = point_to_function_map(test)
-    nb = trial.neighbours
-    indptr, cols = pattern(t_ptr, t_point, nb.idx, nb.mask, trial.n_functions, threads)
-    D = np.ascontiguousarray(D, float)
-    symmetric = test is trial and np.array_equal(D, D.T)  # K_JI = K_IJ^T: half the work
-    data = stiffness_blocks(indptr, cols, t_ptr, t_point, t_slot, test.ddx, test.ddy, nb.idx,
-                             nb.mask, trial.ddx, trial.ddy, w, D, symmetric, threads)
-    if symmetric:
-        mirror_upper(indptr, cols, data)
-    K = bsr_array((data, cols, indptr), shape=(2 * test.n_functions, 2 * trial.n_functions))
-    return csr_array(K.tocsr())
+    return _compiled(test, trial, w, np.ascontiguousarray(D, float))
 
 
 def _nodal_part(shape: Shape) -> Shape:
@@ -166,7 +212,8 @@ def _with_enrichment(shape: Shape, w, D, backend) -> csr_array:
     K_ne = nodal_rows(sig)
     K_en = K_ne.T if np.array_equal(D, D.T) else nodal_rows(stresses(D.T)).T  # E^T D B
     K_ee = csr_array(sum(eps[i].T @ sig[i] for i in range(3)))
-    return csr_array(bmat([[K_nn, K_ne], [K_en, K_ee]], format="csr"))
+    # all blocks CSR: scipy stacks the index arrays (no COO copy of K_nn on the way)
+    return csr_array(bmat([[K_nn, K_ne], [csr_array(K_en), K_ee]], format="csr"))
 
 
 def _petrov_enriched(trial: Shape, test: Shape, w, D, backend) -> csr_array:

@@ -2,6 +2,14 @@
 
 Imported only on the compiled path (:data:`efgkit.jit.COMPILED_MIN` quadrature points and
 more), so that a small run neither imports numba nor compiles anything.
+
+The assembly is row by row with a dense accumulator (Gustavson's sparse product): the
+points of each test function (:func:`transpose_padded`, count then fill, in parallel over
+chunks of points) are visited once; every trial function met there gets its 2 x 2 block
+summed in ``acc[J]`` and is listed the first time it is met, so the pattern is found in
+the same pass as the values (:func:`block_rows`). For a symmetric K only the blocks
+J >= I are formed; :func:`lower_part` and :func:`scalar_csr` then write the full
+scalar CSR matrix straight from these upper rows, the blocks J < I as transposes.
 """
 
 from __future__ import annotations
@@ -11,131 +19,188 @@ from numba import njit, prange
 
 from ..timing import watch_compiles
 
-__all__ = ["mirror_upper", "pattern", "stiffness_blocks", "transpose_padded"]
+__all__ = ["block_rows", "lower_part", "scalar_csr", "transpose_padded"]
 
 watch_compiles()
 
 
-@njit(cache=True)
-def transpose_padded(idx, mask, n_functions):
-    """Points of each function: CSR (indptr (n_functions+1,), point (nnz,), slot (nnz,))."""
+@njit(cache=True, parallel=True)
+def transpose_padded(idx, mask, n_functions, n_threads, like):
+    """Points of each function: CSR (indptr (n_functions+1,) int64, pos (nnz,) of the
+    integer type of ``like``) with ``pos = q k + a`` for the entry ``idx[q, a]`` of point
+    q (one array: half the scattered writes of separate point and slot arrays), the points
+    of a function ascending, and whether the valid entries of every row of ``idx`` ascend
+    (then the functions J >= idx[q, a] of point q are those in the slots b >= a). Thread
+    ``t`` counts and then fills the points of its chunk; its entries of function I start
+    after those of the chunks before it, so the order is that of a serial pass."""
     n, k = idx.shape
-    counts = np.zeros(n_functions + 1, np.int64)
-    for q in range(n):
-        for a in range(k):
-            if mask[q, a]:
-                counts[idx[q, a] + 1] += 1
-    indptr = np.cumsum(counts)
-    fill = indptr[:-1].copy()
-    point = np.empty(indptr[-1], np.int64)
-    slot = np.empty(indptr[-1], np.int64)
-    for q in range(n):
-        for a in range(k):
-            if mask[q, a]:
-                I = idx[q, a]
-                point[fill[I]] = q
-                slot[fill[I]] = a
+    chunk = (n + n_threads - 1) // n_threads
+    counts = np.zeros((n_threads, n_functions), np.int64)
+    unsorted = np.zeros(n_threads, np.int64)
+    for t in prange(n_threads):
+        for q in range(t * chunk, min(n, (t + 1) * chunk)):
+            last = -1
+            for a in range(k):
+                if mask[q, a]:
+                    I = idx[q, a]
+                    counts[t, I] += 1
+                    if I <= last:
+                        unsorted[t] += 1
+                    last = I
+    indptr = np.zeros(n_functions + 1, np.int64)
+    for I in range(n_functions):
+        s = indptr[I]
+        for t in range(n_threads):
+            c = counts[t, I]
+            counts[t, I] = s  # now: where chunk t's entries of function I start
+            s += c
+        indptr[I + 1] = s
+    pos = np.empty(indptr[-1], like.dtype)
+    for t in prange(n_threads):
+        for q in range(t * chunk, min(n, (t + 1) * chunk)):
+            for a in range(k):
+                if mask[q, a]:
+                    I = idx[q, a]
+                    f = counts[t, I]
+                    pos[f] = q * k + a
+                    counts[t, I] = f + 1
+    return indptr, pos, unsorted.sum() == 0
+
+
+@njit(cache=True, nogil=True)
+def block_rows(r0, r1, t_ptr, t_pos, tgx, tgy, trial_idx, trial_mask, gx, gy, w, D,
+               upper, ascending, n_cols, capacity):
+    """Block rows ``r0 <= I < r1`` of K: (lengths (r1 - r0,), cols (nnz,) int32 ascending
+    per row, blocks (nnz, 2, 2)); with ``upper`` only the blocks J >= I (with
+    ``ascending`` rows of ``trial_idx``, those in the slots from I's own on).
+
+    ``K_IJ += w_q B_I^v(x_q)^T D B_J(x_q)`` summed over the points q of test function I in
+    the order of ``t_pos`` (:func:`transpose_padded` of the test functions), into
+    ``acc[J]``; J is listed the first time it is met (``marker[J] = I``). With
+    ``(ax, ay) = w_q grad v_I`` and ``(bx, by) = grad phi_J``,
+    ``B_I^T D B_J = [[bx c0 + by c1, bx c1 + by c3], [bx c4 + by c5, bx c5 + by c7]]``
+    for any D (symmetric or not), with ``c0 = ax D00 + ay D20``, ``c1 = ax D02 + ay D22``,
+    ``c3 = ax D01 + ay D21``, ``c4 = ay D10 + ax D20``, ``c5 = ay D12 + ax D22``,
+    ``c7 = ay D11 + ax D21`` formed once per (I, q): 8 products per (I, q, J) instead of
+    20 for ``D B_J`` and its contraction. Releases the GIL: chunks of rows run on parallel
+    threads.
+    """
+    k = trial_idx.shape[1]
+    k_test = tgx.shape[1]
+    acc = np.zeros((max(n_cols, 1), 2, 2))
+    marker = np.full(max(n_cols, 1), -1, np.int64)
+    found = np.empty(max(n_cols, 1), np.int32)
+    lens = np.zeros(r1 - r0, np.int64)
+    capacity = max(capacity, 16)
+    cols = np.empty(capacity, np.int32)
+    data = np.empty((capacity, 2, 2))
+    fill = 0
+    for I in range(r0, r1):
+        n_found = 0
+        for p in range(t_ptr[I], t_ptr[I + 1]):
+            q = t_pos[p] // k_test
+            a = t_pos[p] - q * k_test
+            ax = w[q] * tgx[q, a]
+            ay = w[q] * tgy[q, a]
+            c0 = ax * D[0, 0] + ay * D[2, 0]
+            c1 = ax * D[0, 2] + ay * D[2, 2]
+            c3 = ax * D[0, 1] + ay * D[2, 1]
+            c4 = ay * D[1, 0] + ax * D[2, 0]
+            c5 = ay * D[1, 2] + ax * D[2, 2]
+            c7 = ay * D[1, 1] + ax * D[2, 1]
+            for b in range(a if upper and ascending else 0, k):
+                if not trial_mask[q, b]:
+                    continue
+                J = trial_idx[q, b]
+                if upper and J < I:
+                    continue
+                if marker[J] != I:
+                    marker[J] = I
+                    found[n_found] = J
+                    n_found += 1
+                bx = gx[q, b]
+                by = gy[q, b]
+                blk = acc[J]
+                blk[0, 0] += bx * c0 + by * c1
+                blk[0, 1] += bx * c1 + by * c3
+                blk[1, 0] += bx * c4 + by * c5
+                blk[1, 1] += bx * c5 + by * c7
+        if fill + n_found > capacity:
+            capacity = max(2 * capacity, fill + n_found)
+            grown_cols = np.empty(capacity, np.int32)
+            grown_cols[:fill] = cols[:fill]
+            grown = np.empty((capacity, 2, 2))
+            grown[:fill] = data[:fill]
+            cols, data = grown_cols, grown
+        row = np.sort(found[:n_found])
+        for m in range(n_found):
+            J = row[m]
+            cols[fill + m] = J
+            for i in range(2):
+                for j in range(2):
+                    data[fill + m, i, j] = acc[J, i, j]
+                    acc[J, i, j] = 0.0
+        lens[I - r0] = n_found
+        fill += n_found
+    return lens, cols[:fill].copy(), data[:fill].copy()
+
+
+@njit(cache=True)
+def lower_part(u_ptr, u_cols):
+    """The blocks below the diagonal of a symmetric K from its upper rows: for each row I
+    the rows J < I whose upper row holds column I, ascending (l_ptr (n+1,), l_row (nl,)
+    int32, l_src (nl,) int64 the index of block (J, I) in the upper rows)."""
+    n = len(u_ptr) - 1
+    l_ptr = np.zeros(n + 1, np.int64)
+    for J in range(n):
+        for c in range(u_ptr[J], u_ptr[J + 1]):
+            if u_cols[c] > J:
+                l_ptr[u_cols[c] + 1] += 1
+    for I in range(n):
+        l_ptr[I + 1] += l_ptr[I]
+    fill = l_ptr[:-1].copy()
+    l_row = np.empty(l_ptr[-1], np.int32)
+    l_src = np.empty(l_ptr[-1], np.int64)
+    for J in range(n):
+        for c in range(u_ptr[J], u_ptr[J + 1]):
+            I = u_cols[c]
+            if I > J:
+                l_row[fill[I]] = J
+                l_src[fill[I]] = c
                 fill[I] += 1
-    return indptr, point, slot
+    return l_ptr, l_row, l_src
 
 
 @njit(cache=True, parallel=True)
-def pattern(t_ptr, t_point, trial_idx, trial_mask, n_cols, n_threads):
-    """Column pattern of every row: the trial functions met in the row's points."""
-    n_rows = len(t_ptr) - 1
-    row_len = np.zeros(n_rows + 1, np.int64)
-    k = trial_idx.shape[1]
-    for t in prange(n_threads):
-        seen = np.full(n_cols, -1, np.int64)
-        for I in range(t, n_rows, n_threads):
-            c = 0
-            for p in range(t_ptr[I], t_ptr[I + 1]):
-                q = t_point[p]
-                for b in range(k):
-                    if trial_mask[q, b]:
-                        J = trial_idx[q, b]
-                        if seen[J] != I:
-                            seen[J] = I
-                            c += 1
-            row_len[I + 1] = c
-    indptr = np.cumsum(row_len)
-    cols = np.empty(indptr[-1], np.int64)
-    for t in prange(n_threads):
-        seen = np.full(n_cols, -1, np.int64)
-        for I in range(t, n_rows, n_threads):
-            c = indptr[I]
-            for p in range(t_ptr[I], t_ptr[I + 1]):
-                q = t_point[p]
-                for b in range(k):
-                    if trial_mask[q, b]:
-                        J = trial_idx[q, b]
-                        if seen[J] != I:
-                            seen[J] = I
-                            cols[c] = J
-                            c += 1
-            cols[indptr[I]:indptr[I + 1]].sort()
-    return indptr, cols
-
-
-@njit(cache=True, parallel=True)
-def stiffness_blocks(indptr, cols, t_ptr, t_point, t_slot, tgx, tgy, trial_idx, trial_mask,
-                      gx, gy, w, D, upper, n_threads):
-    """Blocks (nnz, 2, 2) of K in the pattern (indptr, cols); with ``upper`` only the blocks
-    J >= I (the rest is left zero for :func:`mirror_upper`)."""
-    n_rows = len(indptr) - 1
-    n_cols = 0
-    for c in cols:
-        n_cols = max(n_cols, c + 1)
-    data = np.zeros((len(cols), 2, 2))
-    k = trial_idx.shape[1]
-    for t in prange(n_threads):
-        where = np.full(max(n_cols, 1), -1, np.int64)
-        for I in range(t, n_rows, n_threads):
-            for c in range(indptr[I], indptr[I + 1]):
-                where[cols[c]] = c
-            for p in range(t_ptr[I], t_ptr[I + 1]):
-                q = t_point[p]
-                a = t_slot[p]
-                ax = w[q] * tgx[q, a]
-                ay = w[q] * tgy[q, a]
-                for b in range(k):
-                    if not trial_mask[q, b] or (upper and trial_idx[q, b] < I):
-                        continue
-                    bx = gx[q, b]
-                    by = gy[q, b]
-                    # D B_b: columns for the x and y components of J.
-                    s0x = D[0, 0] * bx + D[0, 2] * by
-                    s1x = D[1, 0] * bx + D[1, 2] * by
-                    s2x = D[2, 0] * bx + D[2, 2] * by
-                    s0y = D[0, 1] * by + D[0, 2] * bx
-                    s1y = D[1, 1] * by + D[1, 2] * bx
-                    s2y = D[2, 1] * by + D[2, 2] * bx
-                    blk = data[where[trial_idx[q, b]]]
-                    blk[0, 0] += ax * s0x + ay * s2x
-                    blk[0, 1] += ax * s0y + ay * s2y
-                    blk[1, 0] += ay * s1x + ax * s2x
-                    blk[1, 1] += ay * s1y + ax * s2y
-    return data
-
-
-@njit(cache=True, parallel=True)
-def mirror_upper(indptr, cols, data):
-    """K_JI = K_IJ^T for the blocks J > I of a symmetric pattern (sorted columns); each
-    lower block is written once, by its row I."""
-    n_rows = len(indptr) - 1
-    for I in prange(n_rows):
-        for c in range(indptr[I], indptr[I + 1]):
-            J = cols[c]
-            if J <= I:
-                continue
-            lo, hi = indptr[J], indptr[J + 1]
-            while lo < hi:  # binary search for column I in row J
-                mid = (lo + hi) // 2
-                if cols[mid] < I:
-                    lo = mid + 1
-                else:
-                    hi = mid
-            data[lo, 0, 0] = data[c, 0, 0]
-            data[lo, 0, 1] = data[c, 1, 0]
-            data[lo, 1, 0] = data[c, 0, 1]
-            data[lo, 1, 1] = data[c, 1, 1]
+def scalar_csr(u_ptr, u_cols, u_data, l_ptr, l_row, l_src, indptr, indices, values):
+    """Write K (2 n, 2 n_cols) as scalar CSR into ``indptr``, ``indices``, ``values``: row
+    2 I + i holds, for each block column J of block row I ascending, the entries
+    (2 J, 2 J + 1); the blocks J < I listed in ``l_*`` are the transposes of blocks (J, I)."""
+    n = len(u_ptr) - 1
+    start = np.empty(n + 1, np.int64)
+    start[0] = 0
+    for I in range(n):
+        start[I + 1] = start[I] + 4 * (l_ptr[I + 1] - l_ptr[I] + u_ptr[I + 1] - u_ptr[I])
+    for I in prange(n):
+        width = (start[I + 1] - start[I]) // 2
+        indptr[2 * I] = start[I]
+        indptr[2 * I + 1] = start[I] + width
+        p = start[I]
+        for m in range(l_ptr[I], l_ptr[I + 1]):
+            J = l_row[m]
+            c = l_src[m]
+            for i in range(2):
+                indices[p + i * width] = 2 * J
+                indices[p + i * width + 1] = 2 * J + 1
+                values[p + i * width] = u_data[c, 0, i]
+                values[p + i * width + 1] = u_data[c, 1, i]
+            p += 2
+        for c in range(u_ptr[I], u_ptr[I + 1]):
+            J = u_cols[c]
+            for i in range(2):
+                indices[p + i * width] = 2 * J
+                indices[p + i * width + 1] = 2 * J + 1
+                values[p + i * width] = u_data[c, i, 0]
+                values[p + i * width + 1] = u_data[c, i, 1]
+            p += 2
+    indptr[2 * n] = start[n]
