@@ -170,9 +170,9 @@ def markdown(res: dict, cmd: str) -> str:
         + ", ".join(f"**{r:.2f}** (d_max = {d})" for d, r in ratios.items())
         + " (target <= 1.5). The EFG matrix has 4-6 times the nonzeros of P2 (MLS supports "
         "of radius d_max h overlap widely); the row kernel adds each quadrature point's "
-        "contributions straight into the row's blocks, for the blocks J >= I only, and "
-        "mirrors them (K is symmetric); finding the pattern and the point lists of the "
-        "functions is about half of the time.",
+        "contributions straight into the row's blocks, for the blocks J >= I only, finding "
+        "the row's columns in the same pass, and writes the blocks J < I as transposes (K is "
+        "symmetric); the row pass is most of the time (the assembly section below).",
         "",
         "## End-to-end static solve (scene to stresses at all quadrature points)",
         "",
