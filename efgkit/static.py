@@ -258,9 +258,10 @@ def solve_mlpg(scene: Scene, method: MLPG, disc: Discretization | None = None) -
 
 
 def _fixed_operator(loc) -> csr_array:
-    """Rows (boundary point, fixed component) of u^h at the sub-domains' supported pieces."""
+    """Rows (boundary point, fixed component) of u^h at the penalised supported pieces
+    (those of the discs of nodes on Gamma_u, :meth:`LocalBoundary.penalty_mask`)."""
     Ux, Uy = loc.trial.u_operators()
-    q, c = np.nonzero(loc.fixed)
+    q, c = np.nonzero(np.column_stack([loc.penalty_mask(0), loc.penalty_mask(1)]) > 0)
     from scipy.sparse import vstack
 
     n = loc.fixed.shape[0]

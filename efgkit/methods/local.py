@@ -5,14 +5,19 @@ inside the body and visible from x_I, with the test function v_I (quartic spline
 vanishing on the circle L_s,
 
     K_IJ = int_{Omega_s^I} eps(v_I)^T D eps(phi_J) dOmega - int_{Gamma_su^I} v_I N D B_J dGamma
-           (+ alpha int_{Gamma_su^I} v_I phi_J dGamma,  bc="penalty")
+           (+ alpha int_{Gamma_su^I} v_I phi_J dGamma,  bc="penalty", x_I on Gamma_u)
     f_I  = int_{Gamma_st^I} v_I tbar dGamma + int_{Omega_s^I} v_I b dOmega
-           (+ alpha int_{Gamma_su^I} v_I ubar dGamma,   bc="penalty")
+           (+ alpha int_{Gamma_su^I} v_I ubar dGamma,   bc="penalty", x_I on Gamma_u)
 
 per displacement component: Gamma_su is where that component is prescribed, Gamma_st the
 rest of the body boundary inside the disc (traction tbar, 0 where none is given; crack
 faces carry their pressure). With the exact solution every row vanishes identically for
-any alpha, so the penalty form is consistent (unlike EFG's global penalty).
+any alpha, so the penalty form is consistent (unlike EFG's global penalty). The penalty
+term sits in the rows of the nodes on Gamma_u only: in the row of a node off Gamma_u whose
+disc reaches it, alpha int v_I (u - ubar) over the rim of the disc (v_I ~ 1e-3) competed
+with the disc's equilibrium and, for large alpha, repeated the condition of the boundary
+node beside it, leaving the node's equilibrium unenforced (nearly dependent rows; issue 14,
+docs/theory.md "MLPG1": the penalised rows of interior nodes made the error erratic in h).
 
 Enrichment unknowns (extrinsic MLS, PU) have no node and no disc: their equations are the
 Galerkin rows of the global weak form tested with the enrichment functions E_e over the
@@ -63,7 +68,8 @@ class LocalBoundary:
     """The body boundary inside the sub-domains: Gauss points of every piece (``points``:
     x, w, owner node, outward normal), the test and trial functions there, which
     components are prescribed (``fixed (m, 2)``, ``value (m, 2)``) and the traction
-    ``(m, 2)`` elsewhere; ``radii (n_nodes,)`` are the test radii r_sI."""
+    ``(m, 2)`` elsewhere; ``radii (n_nodes,)`` are the test radii r_sI; ``penalised (m,)``
+    whether the point's owner lies on Gamma_u (its disc carries the penalty term)."""
 
     points: Points
     test: Shape
@@ -74,6 +80,12 @@ class LocalBoundary:
     radii: np.ndarray
     edge: np.ndarray | None = None  # (m,) index of each point's edge in scene.domain.edges()
     shadow: tuple | None = None
+    penalised: np.ndarray | None = None  # (m,) bool; None: every point (former behaviour)
+
+    def penalty_mask(self, comp: int) -> np.ndarray:
+        """(m,) float: 1 where component ``comp`` is prescribed and the owner is on Gamma_u."""
+        fix = self.fixed[:, comp]
+        return (fix if self.penalised is None else fix & self.penalised).astype(float)
 
 
 def disc_radii(nodes, method: MLPG) -> np.ndarray:
@@ -178,6 +190,7 @@ def discretize_local(scene: Scene, method: MLPG) -> Discretization:
     shape = approx.shape(points.x)
     test = disc_test_functions(points.x, points.owner, nodes.x, r_s)
     local = _local_boundary(scene, approx, nodes, r_s, bpts, edge_of, edges)
+    local = replace(local, penalised=essential_nodes(scene, nodes, method.spacing)[bpts.owner])
     sh = shadow_pieces(scene, nodes, r_s, cseg, method.boundary_order)
     if sh.n:
         local = replace(local, shadow=(
@@ -231,7 +244,7 @@ def local_loads(disc: Discretization, alpha: float | None, scene: Scene | None =
         traction = _tractions(scene, loc.points, loc.edge, names, loc.fixed)
     for c in range(2):
         if alpha is not None:
-            f += _rows(loc.test, loc.points.w, c, n2, loc.fixed[:, c].astype(float)) @ (
+            f += _rows(loc.test, loc.points.w, c, n2, loc.penalty_mask(c)) @ (
                 alpha * loc.value[:, c])
         f += _rows(loc.test, loc.points.w, c, n2) @ traction[:, c]
     if scene.body_force is not None:
@@ -272,13 +285,12 @@ def local_system(disc: Discretization, alpha: float | None) -> tuple[csr_array, 
     U = loc.trial.u_operators()
     T = _traction_ops(loc.trial, bp.normal, D)
     for c in range(2):
-        # Gamma_su: -int v t_c(u) (+ alpha int v (u_c - ubar_c)); Gamma_st: int v tbar_c
-        fix = loc.fixed[:, c].astype(float)
-        Rs = _rows(loc.test, bp.w, c, n2, fix)
-        term = -T[c]
+        # Gamma_su: -int v t_c(u) in every disc reaching it; + alpha int v (u_c - ubar_c) in
+        # the discs of the nodes on Gamma_u (LocalBoundary.penalised); Gamma_st: int v tbar_c
+        Rs = _rows(loc.test, bp.w, c, n2, loc.fixed[:, c].astype(float))
+        K = K + _pad(Rs @ (-T[c]), nd)
         if alpha is not None:
-            term = term + alpha * U[c]
-        K = K + _pad(Rs @ term, nd)
+            K = K + _pad(_rows(loc.test, bp.w, c, n2, loc.penalty_mask(c)) @ (alpha * U[c]), nd)
     if loc.shadow is not None:  # -int v_I t(u) on the shadow rays (shadow_pieces)
         sp, sv, su = loc.shadow
         Ts = _traction_ops(su, sp.normal, D)

@@ -88,7 +88,8 @@ class MLPG(MeshlessChoices):
         on which energies, errors and J integrals are integrated (MLPG's discs overlap:
         they are no partition of the body), as for EFG.
     bc : {"penalty", "modified_mls", "collocation"}
-        Essential conditions: a penalty term in the local weak form (alpha int_Gsu v (u - ubar)),
+        Essential conditions: a penalty term in the local weak forms of the nodes on Gamma_u
+        (alpha int_Gsu v (u - ubar); every disc reaching Gamma_u keeps the traction term),
         the modified MLS of seed 002 Eqs. 6-19 with direct row cross-out, or collocation rows
         u^h(x_I) = ubar(x_I) replacing the equations of the essential nodes.
     penalty : float, optional
@@ -107,7 +108,7 @@ class MLPG(MeshlessChoices):
         traction-free faces enter the local weak forms only through the discs that reach
         them, and without nodes on them the far face of a crack between two node rows lies
         at the rim of the nearest discs (shear edge crack, h = 0.35: tractions of 262 on the
-        lower face against 2.9 with face nodes, K_I 31.97 against 34.67; Wilson 34.0).
+        lower face against 2.9 with face nodes, K_I 31.97 against 34.59; Wilson 34.0).
         A cloud with a node row on the crack is unchanged. False: the seed's cloud.
 
     Examples
