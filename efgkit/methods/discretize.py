@@ -208,14 +208,21 @@ def discretize(scene: Scene, method: EFG) -> Discretization:
     sw.lap("quadrature")
     approx = approximation(scene, method, nodes, interpolate)
     sw.lap("approximation")  # crack lines, enrichment, the box grid of the nodes
-    order = np.argsort(approx.boxes.box_of(points.x), kind="stable")  # locality for the kernels
+    points, shape = _shape_functions(points, approx, sw)
+    return Discretization(scene, method, nodes, points, shape, approx, sw.timings)
+
+
+def _shape_functions(points: Points, approx: Approximation, sw: Stopwatch) -> tuple[Points, Shape]:
+    """The points sorted by box (locality for the kernels), then their neighbours and shape
+    functions (stages "search" and "shape")."""
+    order = np.argsort(approx.boxes.box_of(points.x), kind="stable")
     points = Points(points.x[order], points.w[order],
                     None if points.owner is None else points.owner[order])
-    nb = find_neighbours(points.x, nodes, approx.boxes)
+    nb = find_neighbours(points.x, approx.nodes, approx.boxes)
     sw.lap("search")
     shape = approx.shape(points.x, neighbours=nb)
     sw.lap("shape")
-    return Discretization(scene, method, nodes, points, shape, approx, sw.timings)
+    return points, shape
 
 
 def _mirrored(scene: Scene, method: EFG, sw: Stopwatch) -> Discretization:
@@ -263,13 +270,7 @@ def _mirrored(scene: Scene, method: EFG, sw: Stopwatch) -> Discretization:
     approx = approximation(full, method, nodes)
     images = tie(sym.lines, U, origin, side, sides, approx.enrichment, tol)
     sw.lap("approximation")
-    order = np.argsort(approx.boxes.box_of(points.x), kind="stable")
-    points = Points(points.x[order], points.w[order],
-                    None if points.owner is None else points.owner[order])
-    nb = find_neighbours(points.x, nodes, approx.boxes)
-    sw.lap("search")
-    shape = approx.shape(points.x, neighbours=nb)
-    sw.lap("shape")
+    points, shape = _shape_functions(points, approx, sw)
     return Discretization(scene, method, nodes, points, shape, approx, sw.timings, images=images)
 
 
