@@ -15,7 +15,7 @@ import json
 import math
 from pathlib import Path
 
-__all__ = ["Report", "VERIFICATION_OUT"]
+__all__ = ["Report", "VERIFICATION_OUT", "growth_figures"]
 
 VERIFICATION_OUT = Path(__file__).resolve().parent / "out"
 
@@ -79,3 +79,22 @@ class Report:
         suffix = "_quick" if self.quick else ""
         (out / f"{self.name}{suffix}.json").write_text(json.dumps(res, indent=1) + "\n")
         return res
+
+
+def growth_figures(steps, fig_dir, stem: str, path_name: str = "path") -> list[str]:
+    """The crack-path and K-history figures of growth ``steps`` as
+    ``fig_dir/<stem>_<path_name>.png`` and ``fig_dir/<stem>_K.png``; their paths."""
+    import matplotlib.pyplot as plt
+
+    from efgkit.growth.figures import plot_k, plot_path
+
+    fig_dir = Path(fig_dir)
+    fig_dir.mkdir(parents=True, exist_ok=True)
+    out = []
+    for what, plot in ((path_name, plot_path), ("K", plot_k)):
+        fig = plot(steps)
+        p = fig_dir / f"{stem}_{what}.png"
+        fig.savefig(p, dpi=110, bbox_inches="tight")
+        plt.close(fig)
+        out.append(str(p))
+    return out

@@ -62,7 +62,7 @@ import warnings
 from pathlib import Path
 
 import numpy as np
-from _report import Report
+from _report import Report, growth_figures
 
 from efgkit import EFG, Crack, Domain, Elastic, Scene, Support, Traction
 from efgkit.growth import Growth, grow
@@ -126,7 +126,7 @@ def run(setup: str, spacing: float, da: float, max_steps: int, fig_dir=None) -> 
            "kink_deg": [math.degrees(float(s.kink[0])) for s in steps],
            "length": [s.lengths["crack"] for s in steps]}
     if fig_dir is not None:
-        out["figures"] = figures(steps, setup, fig_dir)
+        out["figures"] = growth_figures(steps, fig_dir, f"{NAME}_{setup}")
     return out
 
 
@@ -137,23 +137,6 @@ def boundary_end(step) -> list | None:
         return None
     txt = step.stop.split("boundary at [", 1)[1].split("]", 1)[0]
     return [float(t) for t in txt.split(",")]
-
-
-def figures(steps, setup: str, fig_dir) -> list[str]:
-    import matplotlib.pyplot as plt
-
-    from efgkit.growth.figures import plot_k, plot_path
-
-    fig_dir = Path(fig_dir)
-    fig_dir.mkdir(parents=True, exist_ok=True)
-    out = []
-    for what, plot in (("path", plot_path), ("K", plot_k)):
-        fig = plot(steps)
-        p = fig_dir / f"{NAME}_{setup}_{what}.png"
-        fig.savefig(p, dpi=110, bbox_inches="tight")
-        plt.close(fig)
-        out.append(str(p))
-    return out
 
 
 def hole_distances(vertices) -> np.ndarray:

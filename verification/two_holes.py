@@ -57,7 +57,7 @@ import warnings
 from pathlib import Path
 
 import numpy as np
-from _report import Report
+from _report import Report, growth_figures
 
 from efgkit import EFG, Crack, Domain, Elastic, Scene, Support, Traction
 from efgkit.growth import Growth, grow
@@ -116,19 +116,7 @@ def run(case: str, spacing: float, da: float, max_steps: int, fig_dir=None) -> d
                              for s in steps] for c in last.cracks}
     out["length"] = {c.name: [s.lengths[c.name] for s in steps] for c in last.cracks}
     if fig_dir is not None:
-        import matplotlib.pyplot as plt
-
-        from efgkit.growth.figures import plot_k, plot_path
-
-        fig_dir = Path(fig_dir)
-        fig_dir.mkdir(parents=True, exist_ok=True)
-        out["figures"] = []
-        for what, plot in (("paths", plot_path), ("K", plot_k)):
-            fig = plot(steps)
-            p = fig_dir / f"{NAME}_{case}_{what}.png"
-            fig.savefig(p, dpi=110, bbox_inches="tight")
-            plt.close(fig)
-            out["figures"].append(str(p))
+        out["figures"] = growth_figures(steps, fig_dir, f"{NAME}_{case}", "paths")
     return out
 
 
