@@ -75,6 +75,7 @@ def test_graph_is_brute_force(name, method):
     np.testing.assert_array_equal(found, brute(x, nodes))
     assert np.all(np.diff(nb.mask.astype(int), axis=1) <= 0)  # valid entries first
     assert nb.idx.shape[1] == nb.counts.max()  # no column wider than the largest count
+    assert nb.idx.dtype == np.int32  # half the memory of the padded int64 indices
     # CSR has the same rows, ascending
     indptr, indices = neighbour_lists(x, nodes, method=method)
     np.testing.assert_array_equal(np.diff(indptr), nb.counts)

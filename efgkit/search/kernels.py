@@ -194,8 +194,9 @@ def count_neighbours(x, box, start, packed):
 
 @njit(cache=True, parallel=True)
 def fill_padded(x, box, start, members, packed, kmax):
-    """Padded neighbour indices ``(n, kmax)``, valid entries first and ascending."""
-    idx = np.zeros((len(x), kmax), np.int64)
+    """Padded neighbour indices ``(n, kmax)`` int32 (node counts stay below 2**31),
+    valid entries first and ascending."""
+    idx = np.zeros((len(x), kmax), np.int32)
     for q in prange(len(x)):
         b = box[q]
         if b < 0:

@@ -40,8 +40,10 @@ class Neighbours:
 
     Attributes
     ----------
-    idx : ndarray, shape (n_points, k), int
+    idx : ndarray, shape (n_points, k), int32
         Node indices; entries where ``mask`` is False are 0 (a valid index, unused).
+        int32 halves the largest integer array of a solve (node counts stay far below
+        2**31); flat positions ``q * k + a`` are formed in int64 where they could exceed it.
     mask : ndarray, shape (n_points, k), bool
         True for nodes whose support contains the point (strictly: d < d_mI).
         The search puts the valid entries first in each row; a crack rule
@@ -168,7 +170,7 @@ def find_neighbours(x: np.ndarray, nodes: NodeCloud, boxes: BoxGrid | None = Non
         count = np.diff(indptr)
         kmax = int(count.max()) if len(x) else 0
         mask = np.arange(kmax)[None, :] < count[:, None]
-        idx = np.zeros((len(x), kmax), np.int64)
+        idx = np.zeros((len(x), kmax), np.int32)
         idx[mask] = indices
         return Neighbours(idx, mask)
     from .kernels import box_index, count_neighbours, fill_padded
