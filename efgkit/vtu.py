@@ -19,6 +19,7 @@ __all__ = ["VTK_TRIANGLE", "VTK_VERTEX", "write_unstructured"]
 VTK_VERTEX = 1  # VTK cell type ids (vtkCellType.h)
 VTK_TRIANGLE = 5
 
+
 def _vtk_type(a: np.ndarray) -> tuple[str, np.dtype]:
     """The VTK type name and the numpy type an array is written as."""
     if a.dtype.kind == "f":
