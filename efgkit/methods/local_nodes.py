@@ -17,9 +17,8 @@ per face by :func:`~efgkit.nodes.generate_nodes`; background nodes closer than a
 the local spacing to a crack are dropped (boundary nodes next to a crack mouth too: the
 face nodes at the mouth replace them), as next to the outer boundary; nodes already on a
 crack (a grid row on it, a node at a tip) stay and no face node is added within half a
-spacing of them, so a cloud with a row on the crack is unchanged.
-Support radii keep
-the rule of the background cloud (2nd neighbour on regular grids, 3rd otherwise).
+spacing of them, so a cloud with a row on the crack is unchanged. Support radii keep the
+rule of the background cloud (2nd neighbour on regular grids, 3rd otherwise).
 """
 
 from __future__ import annotations
