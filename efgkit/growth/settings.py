@@ -8,9 +8,10 @@ increment (fatigue).
 
 from __future__ import annotations
 
-import difflib
 import math
 from dataclasses import dataclass, fields
+
+from ..tables import check_known_keys
 
 __all__ = ["CRITERIA", "Growth"]
 
@@ -136,12 +137,7 @@ class Growth:
         """
         if not isinstance(d, dict):
             raise TypeError(f"{path} must be a table, got {d!r}")
-        valid = cls.keys()
-        for k in d:
-            if k not in valid:
-                near = difflib.get_close_matches(str(k), valid, n=1)
-                hint = f"did you mean {near[0]!r}?" if near else f"valid keys: {', '.join(valid)}"
-                raise ValueError(f"unknown key {k!r} in table '{path}'; {hint}")
+        check_known_keys(d, cls.keys(), f"table '{path}'")
         if "da" not in d:
             raise ValueError(f"missing required key 'da' in table '{path}' (the growth increment)")
         types = {f.name: f.type for f in fields(cls)}

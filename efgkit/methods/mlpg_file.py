@@ -10,8 +10,8 @@ with EFG or MLPG by changing that one key. Values are checked by :class:`MLPG` i
 from __future__ import annotations
 
 import dataclasses
-import difflib
 
+from ..tables import check_known_keys
 from .efg import Rosette, Zone
 from .mlpg import MLPG
 
@@ -40,12 +40,7 @@ def mlpg_from_dict(d: dict, path: str = "mlpg") -> MLPG:
     """
     if not isinstance(d, dict):
         raise TypeError(f"{path} must be a table, got {type(d).__name__}")
-    names = [f.name for f in dataclasses.fields(MLPG)]
-    for k in d:
-        if k not in names:
-            near = difflib.get_close_matches(k, names, n=1)
-            hint = f"; did you mean {near[0]!r}?" if near else f"; valid keys: {', '.join(names)}"
-            raise ValueError(f"unknown key {k!r} in table {path!r}{hint}")
+    check_known_keys(d, [f.name for f in dataclasses.fields(MLPG)], f"table {path!r}")
     if "spacing" not in d:
         raise ValueError(f"missing required key 'spacing' in table {path!r}")
     kw = dict(d)

@@ -28,10 +28,10 @@ True
 
 from __future__ import annotations
 
-import difflib
 from dataclasses import replace
 
 from ..problem.scene import Scene
+from ..tables import check_known_keys
 from .schema import SCHEMA, check_finite, join_path, key_path, scene_from_dict
 from .writer import scene_to_dict
 
@@ -44,12 +44,7 @@ def _check_table(d, path: str) -> dict:
     """``d`` is a table with a ``name`` and only the keys of :data:`CASE_KEYS`."""
     if not isinstance(d, dict):
         raise TypeError(f"{path} must be a table {{ name = ..., tractions = [...], ... }}, got {d!r}")
-    for k in d:
-        if k not in CASE_KEYS:
-            near = difflib.get_close_matches(str(k), CASE_KEYS, n=1)
-            hint = f"did you mean {near[0]!r}?" if near else f"valid keys: {', '.join(CASE_KEYS)}"
-            raise ValueError(f"unknown key {k!r} in table '{path}' (a load case holds "
-                             f"{', '.join(CASE_KEYS)}); {hint}")
+    check_known_keys(d, CASE_KEYS, f"table '{path}'", f" (a load case holds {', '.join(CASE_KEYS)})")
     if "name" not in d:
         raise ValueError(f"missing required key 'name' in table '{path}'")
     if not isinstance(d["name"], str) or not d["name"]:

@@ -3,7 +3,6 @@ that name the key path of every error (the package docstring says how)."""
 
 from __future__ import annotations
 
-import difflib
 import math
 from collections.abc import Callable
 from contextlib import contextmanager
@@ -19,6 +18,7 @@ from ..problem.graded import Grading
 from ..problem.history import history_from_dict, with_time_table
 from ..problem.material import Elastic
 from ..problem.supports import Pressure
+from ..tables import check_known_keys
 
 __all__ = ["SCHEMA", "check_finite", "efg_from_dict", "join_path", "key_path", "scene_from_dict"]
 
@@ -40,12 +40,7 @@ def _keys(d, path: str, required=(), optional=()) -> dict:
     """Check that ``d`` is a table with all ``required`` keys and no others."""
     if not isinstance(d, dict):
         raise TypeError(f"{path or 'the scene file'} must be a table, got {d!r}")
-    valid = (*required, *optional)
-    for k in d:
-        if k not in valid:
-            near = difflib.get_close_matches(str(k), valid, n=1)
-            hint = f"did you mean {near[0]!r}?" if near else f"valid keys: {', '.join(valid)}"
-            raise ValueError(f"unknown key {k!r} in {_where(path)}; {hint}")
+    check_known_keys(d, (*required, *optional), _where(path))
     for k in required:
         if k not in d:
             raise ValueError(f"missing required key {k!r} in {_where(path)}")

@@ -28,10 +28,10 @@ nearest valid one; errors are prefixed with the file path.
 
 from __future__ import annotations
 
-import difflib
 from dataclasses import dataclass
 from pathlib import Path
 
+from ..tables import check_known_keys
 from .spec import Parameter, Study, base_document
 
 try:
@@ -64,11 +64,7 @@ class StudyFile:
 def _check_keys(d, valid, where: str) -> None:
     if not isinstance(d, dict):
         raise TypeError(f"{where} must be a table, got {d!r}")
-    for k in d:
-        if k not in valid:
-            near = difflib.get_close_matches(str(k), valid, n=1)
-            hint = f"did you mean {near[0]!r}?" if near else f"valid keys: {', '.join(valid)}"
-            raise ValueError(f"unknown key {k!r} in {where}; {hint}")
+    check_known_keys(d, valid, where)
 
 
 def _typed(d: dict, key: str, types, what: str, where: str):
