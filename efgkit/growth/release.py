@@ -262,7 +262,7 @@ class _Line:
 
 
 def run_release(scene, method, rule: LineRelease, stepping: Stepping | None = None, *,
-                max_length: float | None = None, progress: bool = False) -> Released:
+                max_length: float | None = None) -> Released:
     """Explicit run of ``scene`` (EFG, bc="lagrange") whose symmetry line ``y = rule.y0``
     is released by the principal-stress criterion (module docstring). ``scene`` holds
     every other support (the line's rows are added here). Stops at ``scene.duration``, when the
@@ -373,8 +373,6 @@ def run_release(scene, method, rule: LineRelease, stepping: Stepping | None = No
         v = state.v - P.minv_GT @ P.lu.solve(P.G @ state.v - (q_now - q_before) / dt)
         state = State(step, dt, u, v, state.work, None, 0.0, 0.0)
         timings["release"] += time.perf_counter() - t1
-        if progress:
-            print(f"t = {step * dt:.4g}: crack length {a:.4g}", flush=True)
         if a >= lim - 1e-12:
             stop = f"crack length {a:.6g} reached {lim:.6g}"
             break
