@@ -5,7 +5,8 @@ import pytest
 
 from efgkit import EFG, Domain, Elastic, Linear, Scene, Support
 from efgkit.growth.cohesive import critical_opening
-from efgkit.growth.release import LineRelease, release_segments, run_release
+from efgkit.growth.release import LineRelease, run_release
+from efgkit.growth.release_rules import release_segments
 from efgkit.problem.history import Stepping
 
 MAT = Elastic(400e3, 0.29, "strain", rho=19300e-12)  # tungsten, seed 000 Sect. 5.2.1 (mm, MPa, t/mm^3)

@@ -60,7 +60,7 @@ from .dynamic import principal_stress
 from .release_rules import release_segments
 from .running_tip import speed_fit
 
-__all__ = ["LineRelease", "Released", "release_segments", "run_release"]
+__all__ = ["LineRelease", "Released", "run_release"]
 
 
 @dataclass(frozen=True)
