@@ -27,7 +27,8 @@ form is in K (its prescribed values in ``f_bc``); ``"modified_mls"``: as above;
 ``"collocation"``: the rows ``u^h_c(x_I) = ubar_c(x_I)`` at the essential nodes are imposed
 by the projection (the equations of those nodes are kept, with the constraint's reaction,
 instead of replaced as in the static solve). K is not symmetric: docs/theory.md
-("Explicit MLPG") on its spectrum and the energy balance.
+("Explicit MLPG") on its spectrum and the energy balance; the trial weight of explicit runs
+is ``MLPG.explicit_weight`` (:func:`~efgkit.explicit.mlpg_weight.explicit_mlpg`).
 """
 
 from __future__ import annotations
@@ -52,6 +53,7 @@ from ..static import DEFAULT_PENALTY, DEFAULT_STABILISATION
 from ..system.assemble import stiffness
 from ..system.constraints import lagrange, modified_variational, penalty
 from ..system.mass import ENRICHMENT_MASSES, row_sum_mass
+from .mlpg_weight import explicit_mlpg
 from .moving import split_values, still_scene
 
 __all__ = ["Dynamics", "Projection", "dynamics", "fit_coefficients", "local_dynamics"]
@@ -311,7 +313,8 @@ def local_dynamics(scene: Scene, method: MLPG, disc: Discretization | None = Non
         An enriched MLPG (its Galerkin enrichment rows have no sub-domain mass yet).
     """
     refuse_grading(scene, "explicit MLPG")
-    method = method.for_scene(scene)
+    # the trial weight of explicit runs (MLPG.explicit_weight); a given disc keeps its own
+    method = explicit_mlpg(method.for_scene(scene)) if disc is None else method.for_scene(scene)
     if method.enrichment != "none":
         raise ValueError(f"method.enrichment={method.enrichment!r}: explicit MLPG runs without "
                          "tip enrichment only (its enrichment rows are Galerkin rows over the "

@@ -31,9 +31,10 @@ from .efg import (
     check_positive,
 )
 
-__all__ = ["MLPG", "MLPG_BC_METHODS", "MLPG_QUADRATURES", "MLPG_SOLVERS"]
+__all__ = ["EXPLICIT_WEIGHTS", "MLPG", "MLPG_BC_METHODS", "MLPG_QUADRATURES", "MLPG_SOLVERS"]
 
 MLPG_BC_METHODS = ("penalty", "modified_mls", "collocation")
+EXPLICIT_WEIGHTS = ("auto", "same", *WEIGHTS)  # MLPG.explicit_weight
 MLPG_QUADRATURES = ("midpoint", "gauss")
 MLPG_SOLVERS = ("auto", "direct", "gmres", "bicgstab")
 
@@ -110,6 +111,13 @@ class MLPG(MeshlessChoices):
         at the rim of the nearest discs (shear edge crack, h = 0.35: tractions of 262 on the
         lower face against 2.9 with face nodes, K_I 31.97 against 34.59; Wilson 34.0).
         A cloud with a node row on the crack is unchanged. False: the seed's cloud.
+    explicit_weight : {"auto", "same", "gaussian", "quartic", "cubic"}
+        Trial weight of explicit (central-difference) runs only
+        (:func:`efgkit.explicit.explicit_mlpg`); static solves use ``weight``. "auto": the
+        cubic spline when ``weight`` is the Gaussian, whose pairing with the quartic test
+        function gives M^-1 K negative real eigenvalues (modes growing at any step; the
+        cubic weight leaves slowly growing complex pairs only: docs/theory.md, "Explicit
+        MLPG"), with a warning; otherwise ``weight``. "same": ``weight``.
 
     Examples
     --------
@@ -151,6 +159,7 @@ class MLPG(MeshlessChoices):
     ramp: str = "quintic"
     ramp_inner: float = 0.0
     crack_nodes: bool = True
+    explicit_weight: str = "auto"
 
     kind = "mlpg"
 
@@ -176,6 +185,7 @@ class MLPG(MeshlessChoices):
         if self.penalty is not None:
             check_positive("penalty", self.penalty)
         check_choice("solver", self.solver, MLPG_SOLVERS)
+        check_choice("explicit_weight", self.explicit_weight, EXPLICIT_WEIGHTS)
         self.check_cracks()
 
     @property
