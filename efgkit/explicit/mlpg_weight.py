@@ -8,8 +8,12 @@ k = 2, c = 0.5 r_I) it is negative at the checkerboard (-0.061 lambda_max), so `
 has negative real eigenvalues, whose modes grow like ``exp(sqrt(-lambda) t)`` at any step
 (gamma ~ 1/h). The cubic-spline weight's symbol is non-negative (its minimum is the 0 of
 the rigid translations); complex pairs with small imaginary parts remain near the
-boundary (docs/theory.md, "Explicit MLPG"), growing 30-130 times more slowly. Static
-solves are not concerned (no time stepping): they keep ``MLPG.weight``.
+boundary (docs/theory.md, "Explicit MLPG"). Measured on the 2 x 1 plates of
+``verification/stability.py`` (h = 0.125) the growth rate falls 15-200 fold (free: 126 to
+0.97); on a thin bar held by the modified MLS, whose growing pair sits at that boundary,
+not at all (6.2 and 6.3, ``tests/test_explicit_mlpg.py``). Neither weight makes MLPG1
+stable in general: docs/theory.md. Static solves are not concerned (no time stepping):
+they keep ``MLPG.weight``.
 """
 
 from __future__ import annotations

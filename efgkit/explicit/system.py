@@ -313,13 +313,14 @@ def local_dynamics(scene: Scene, method: MLPG, disc: Discretization | None = Non
         An enriched MLPG (its Galerkin enrichment rows have no sub-domain mass yet).
     """
     refuse_grading(scene, "explicit MLPG")
-    # the trial weight of explicit runs (MLPG.explicit_weight); a given disc keeps its own
-    method = explicit_mlpg(method.for_scene(scene)) if disc is None else method.for_scene(scene)
+    method = method.for_scene(scene)
     if method.enrichment != "none":
         raise ValueError(f"method.enrichment={method.enrichment!r}: explicit MLPG runs without "
                          "tip enrichment only (its enrichment rows are Galerkin rows over the "
                          "field quadrature and have no lumped mass on the sub-domains); give "
                          "MLPG(..., enrichment='none') or use EFG")
+    if disc is None:  # the trial weight of explicit runs (MLPG.explicit_weight)
+        method = explicit_mlpg(method)
     disc = discretize_local(scene, method) if disc is None else disc
     mat, timings = scene.material, {}
     t0 = time.perf_counter()
