@@ -32,7 +32,8 @@ def explicit_mlpg(method: MLPG, warn: bool = True) -> MLPG:
     """``method`` with the trial weight of explicit runs (``method.explicit_weight``).
 
     ``"auto"``: the Gaussian becomes the cubic spline (module docstring), with a
-    ``UserWarning`` saying so when ``warn``; the quartic and cubic splines stay.
+    ``UserWarning`` saying so when ``warn``; the quartic and cubic splines stay, and so does
+    every weight with ``explicit_form="galerkin"`` (a symmetric K).
     ``"same"``: ``method.weight``. A weight name: that weight.
 
     Examples
@@ -54,7 +55,7 @@ def explicit_mlpg(method: MLPG, warn: bool = True) -> MLPG:
         return method
     if choice != "auto":
         return replace(method, weight=choice)
-    if method.weight != "gaussian":
+    if method.weight != "gaussian" or method.explicit_form == "galerkin":
         return method
     if warn:
         warnings.warn(

@@ -31,10 +31,12 @@ from .efg import (
     check_positive,
 )
 
-__all__ = ["EXPLICIT_WEIGHTS", "MLPG", "MLPG_BC_METHODS", "MLPG_QUADRATURES", "MLPG_SOLVERS"]
+__all__ = ["EXPLICIT_FORMS", "EXPLICIT_WEIGHTS", "MLPG", "MLPG_BC_METHODS", "MLPG_QUADRATURES",
+           "MLPG_SOLVERS"]
 
 MLPG_BC_METHODS = ("penalty", "modified_mls", "collocation")
 EXPLICIT_WEIGHTS = ("auto", "same", *WEIGHTS)  # MLPG.explicit_weight
+EXPLICIT_FORMS = ("petrov_galerkin", "galerkin")  # MLPG.explicit_form
 MLPG_QUADRATURES = ("midpoint", "gauss")
 MLPG_SOLVERS = ("auto", "direct", "gmres", "bicgstab")
 
@@ -117,7 +119,14 @@ class MLPG(MeshlessChoices):
         cubic spline when ``weight`` is the Gaussian, whose pairing with the quartic test
         function gives M^-1 K negative real eigenvalues (modes growing at any step; the
         cubic weight leaves slowly growing complex pairs only: docs/theory.md, "Explicit
-        MLPG"), with a warning; otherwise ``weight``. "same": ``weight``.
+        MLPG"), with a warning; otherwise ``weight``. "same": ``weight``. With
+        ``explicit_form="galerkin"`` "auto" keeps ``weight`` (a symmetric K has no such modes).
+    explicit_form : {"petrov_galerkin", "galerkin"}
+        The equations of explicit runs only: MLPG1's local Petrov-Galerkin rows (seed 002),
+        or the symmetric Bubnov-Galerkin form of the same trial functions on the field
+        cells (:mod:`efgkit.explicit.galerkin_form`), whose ``M^-1 K`` has real non-negative
+        eigenvalues by construction (stable below the critical step for runs of any length,
+        energy conserved); it is not MLPG1.
 
     Examples
     --------
@@ -160,6 +169,7 @@ class MLPG(MeshlessChoices):
     ramp_inner: float = 0.0
     crack_nodes: bool = True
     explicit_weight: str = "auto"
+    explicit_form: str = "petrov_galerkin"
 
     kind = "mlpg"
 
@@ -186,6 +196,7 @@ class MLPG(MeshlessChoices):
             check_positive("penalty", self.penalty)
         check_choice("solver", self.solver, MLPG_SOLVERS)
         check_choice("explicit_weight", self.explicit_weight, EXPLICIT_WEIGHTS)
+        check_choice("explicit_form", self.explicit_form, EXPLICIT_FORMS)
         self.check_cracks()
 
     @property
