@@ -146,8 +146,9 @@ def markdown(res: dict, cmd: str) -> str:
         f"unknowns), " + (("MLPG, the Galerkin form of its trial functions on the field cells "
                            "(explicit_form='galerkin'), " if res.get("form") == "galerkin" else
                            "MLPG1, ") + f"d_max {res['d_max']:g}, quadratic basis, trial weight "
-                          f"{res['weight']} (explicit runs), 5 x 8 Gauss points per disc, no "
-                          "enrichment" if res.get("method") == "mlpg" else
+                          f"{res['weight']} (explicit runs), " + ("4 x 4 Gauss points per field cell"
+                          if res.get("form") == "galerkin" else "5 x 8 Gauss points per disc")
+                          + ", no enrichment" if res.get("method") == "mlpg" else
                           "EFG d_max 2, linear basis, 4 x 4 Gauss points per cell, no enrichment")
         + f"; K has {res['nnz'] / 1e6:.1f}M non-zeros. Clamped bottom edge: "
         f"{res['constraint_rows']} " + ("collocation" if res.get("method") == "mlpg" else "Lagrange")
