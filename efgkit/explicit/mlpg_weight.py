@@ -65,6 +65,7 @@ def explicit_mlpg(method: MLPG, warn: bool = True) -> MLPG:
             "time step (a free 2 x 1 plate at h = 0.125 blows up after 38 steps at 0.98 dt_c, "
             "against 1882 with the cubic spline; docs/theory.md, 'Explicit MLPG'). Static "
             "solves keep 'gaussian'. To step the Gaussian anyway give "
-            "MLPG(explicit_weight='same') (scene file: [mlpg] explicit_weight = \"same\")",
+            "MLPG(explicit_weight='same') (scene file: [mlpg] explicit_weight = \"same\"); "
+            "for runs stable at any length MLPG(explicit_form='galerkin')",
             UserWarning, stacklevel=4)
     return replace(method, weight=EXPLICIT_AUTO_WEIGHT)
