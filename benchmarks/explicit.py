@@ -119,7 +119,7 @@ def main(argv=None) -> dict:
            "form": a.form if mlpg else None}
     cmd = "python benchmarks/explicit.py" + (" --quick" if a.quick else "") + (
         f" --method mlpg --side {n_side}" + (" --form galerkin" if a.form == "galerkin" else "")
-        if mlpg else "")
+        if mlpg else "") + (f" --repeat {a.repeat}" if a.repeat != 5 else "")
     if not a.no_write:
         tag = "_mlpg" * mlpg + "_galerkin" * (mlpg and a.form == "galerkin") + "_quick" * a.quick
         write_json(res, ROOT / "benchmarks" / "out" / f"explicit{tag}.json")
