@@ -34,7 +34,7 @@ like exp(gamma t) at any step (docs/theory.md, "Explicit MLPG"): measured at h =
 error of K from J' is 58 % and at h = 0.025 the run blows up at step 30 of 44; the quartic
 weight leaves only complex pairs with small imaginary parts (slow growth).
 
-``mlpg_galerkin``: MLPG's trial functions with its default Gaussian weight stepped in the
+``mlpg_galerkin`` (full mode): MLPG's trial functions with its default Gaussian weight stepped in the
 symmetric Galerkin form on the field cells (``MLPG(explicit_form="galerkin")``,
 :mod:`efgkit.explicit.galerkin_form`): stable for any run length; it is not MLPG1, and it
 separates what the Petrov-Galerkin pairing costs from what the trial functions cost.
