@@ -13,6 +13,10 @@ from efgkit.explicit import InstabilityError, dynamics, growth_rate, integrate, 
 from efgkit.growth import Growth, grow
 from efgkit.problem.history import Heaviside, Stepping
 
+# explicit runs step the cubic weight in place of the Gaussian and say so
+# (tests/test_explicit_mlpg_weight.py); here that warning is expected
+pytestmark = pytest.mark.filterwarnings("ignore:explicit MLPG. the trial weight:UserWarning")
+
 L, H, E, RHO = 4.0, 0.5, 1000.0, 1.0
 C = np.sqrt(E / RHO)  # bar wave speed, nu = 0 plane stress: exactly 1D
 
@@ -59,22 +63,25 @@ def test_growth_rate_of_the_unsymmetric_stiffness():
     # EFG (symmetric, semi-definite): none.
     u0 = dict(initial_displacement=lambda x: np.column_stack([0.01 * x[:, 0] ** 2, 0 * x[:, 0]]))
     scene = plate(**u0)
-    dyn = dynamics(scene, MLPG(spacing=0.25))
+    gaussian = MLPG(spacing=0.25, explicit_weight="same")  # step the Gaussian itself
+    dyn = dynamics(scene, gaussian)
     g, lam = growth_rate(dyn)
     assert lam.real < 0 and g == pytest.approx(math.sqrt(-lam.real), rel=1e-12)
     g2, lam2 = growth_rate(dyn, dense_below=0)  # Arnoldi on A - lambda_max I: same mode
     assert g2 == pytest.approx(g, rel=1e-8)  # measured 1e-13
     dtc, lam_max = stable_step(dyn)
     with pytest.raises(InstabilityError, match="blew up at step .* MLPG1 K has modes that grow at any"):
-        integrate(scene, MLPG(spacing=0.25), Stepping(dt=0.98 * dtc), dyn=dyn, steps=2000, dsif=None)
+        integrate(scene, gaussian, Stepping(dt=0.98 * dtc), dyn=dyn, steps=2000, dsif=None)
     assert growth_rate(dynamics(scene, EFG(spacing=0.25)))[0] == 0.0
 
 
 def test_step_load_front_travels_at_the_bar_speed():
     # Heaviside traction sigma on the free end of a fixed-free bar: u(L, t) = sigma t / (rho c)
     # for t < 2L/c and the peak 2 sigma L / E at t = 2L/c (1D wave solution). The run is short
-    # (62 steps), so the slowly growing modes of MLPG1 here (gamma = 6.2, 0.02 e-folds a step)
-    # stay below the detection level. Measured: slope 1.2e-4, peak 0.95 % low, 3.1 % early.
+    # (58 steps), so the slowly growing modes of MLPG1 here (the cubic weight of explicit runs:
+    # gamma = 6.3, 0.04 e-folds a step; the Gaussian's 6.2 alike: they sit at the modified-MLS
+    # boundary) stay below the detection level. Measured: slope 4.3e-5, peak 1.1 % low, 2.0 %
+    # late (the Gaussian, explicit_weight="same": 1.2e-4, 0.95 % low, 3.1 % early).
     sigma = 1.0
     scene = Scene(Domain.rectangle(0, 0, L, H), Elastic(E, 0.0, "stress", rho=RHO),
                   supports=(Support("left", ux=0.0),), duration=3 * L / C,
@@ -83,9 +90,9 @@ def test_step_load_front_travels_at_the_bar_speed():
                     Stepping(probes=((L, H / 2),), output_interval=L / C / 100), dsif=None)
     t, u = sol.t, sol.history["u"][:, 0, 0]
     mid = (t > 0.3 * L / C) & (t < 1.7 * L / C)
-    assert np.polyfit(t[mid], u[mid], 1)[0] == pytest.approx(sigma / (RHO * C), rel=4e-4)
+    assert np.polyfit(t[mid], u[mid], 1)[0] == pytest.approx(sigma / (RHO * C), rel=1.3e-4)
     assert u.max() == pytest.approx(2 * sigma * L / E, rel=0.03)
-    assert t[np.argmax(u)] == pytest.approx(2 * L / C, rel=0.09)
+    assert t[np.argmax(u)] == pytest.approx(2 * L / C, rel=0.06)
 
 
 def test_penalty_supports_are_in_the_stiffness_and_the_prescribed_values_in_f_bc():

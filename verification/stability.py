@@ -41,6 +41,16 @@ symmetrising K for the dynamics cure them?); and ``interior_symbol_min``, per tr
 the most negative eigenvalue of the symbol of a centre node's rows of ``M^-1 K``
 (:func:`efgkit.explicit.row_symbol`, 3 x 3 plate at h = 0.25, 21 x 21 wavenumbers of
 ``[0, pi / h]^2``) over ``lambda_max``, and where it lies (``xi h``).
+
+The Gaussian rows step the Gaussian itself (``explicit_weight="same"``); explicit runs
+default to the cubic spline in its place (``MLPG.explicit_weight="auto"``,
+``explicit_auto_weight``), so the ``..._cubic`` rows are what an MLPG run gets by default.
+Two more measurements (docs/theory.md, "Explicit MLPG"): ``mass_alternatives``, the
+growth rate and ``lambda_max`` of the operator actually stepped when the consistent PG mass
+is applied by ``k`` Jacobi iterations preconditioned by the lumped mass (h = 0.25, dense);
+and ``modal_energy``, the energy an unsymmetric K conserves where ``M^-1 K`` has a real
+non-negative spectrum (:func:`efgkit.explicit.modal_energy`), over the run of the one such
+model (the clamped penalty plate, cubic weight, h = 0.25): checked against 1e-10.
 """
 
 from __future__ import annotations
@@ -56,10 +66,13 @@ from efgkit.explicit import (
     InstabilityError,
     dynamics,
     growth_rate,
+    initial_state,
     integrate,
+    modal_energy,
     row_symbol,
     stable_step,
 )
+from efgkit.explicit.mlpg_weight import EXPLICIT_AUTO_WEIGHT
 from efgkit.explicit.spectrum import dense_operator
 from efgkit.problem.history import Stepping
 
@@ -97,12 +110,13 @@ def _mlpg_scenes():
     dom = Domain.rectangle(0, 0, 2, 1)
     init = dict(initial_displacement=_u0, initial_velocity=(0.0, 0.01), duration=1.0)
     clamp = (Support("left", ux=0.0, uy=0.0),)
+    gauss = {"explicit_weight": "same"}  # the Gaussian itself (explicit runs default: cubic)
     return {
-        "free": (Scene(dom, MAT, **init), {}),
+        "free": (Scene(dom, MAT, **init), gauss),
         "free_quartic": (Scene(dom, MAT, **init), {"weight": "quartic"}),
-        "clamped_modified_mls": (Scene(dom, MAT, supports=clamp, **init), {"bc": "modified_mls"}),
-        "clamped_penalty": (Scene(dom, MAT, supports=clamp, **init), {"bc": "penalty"}),
-        "clamped_collocation": (Scene(dom, MAT, supports=clamp, **init), {"bc": "collocation"}),
+        "clamped_modified_mls": (Scene(dom, MAT, supports=clamp, **init), {"bc": "modified_mls", **gauss}),
+        "clamped_penalty": (Scene(dom, MAT, supports=clamp, **init), {"bc": "penalty", **gauss}),
+        "clamped_collocation": (Scene(dom, MAT, supports=clamp, **init), {"bc": "collocation", **gauss}),
         "free_cubic": (Scene(dom, MAT, **init), {"weight": "cubic"}),
         "clamped_modified_mls_cubic": (Scene(dom, MAT, supports=clamp, **init),
                                        {"bc": "modified_mls", "weight": "cubic"}),
@@ -118,6 +132,18 @@ def consistent_growth(dyn) -> float:
     consistent mass ``M_c[2I+c, 2J+c] = rho sum_q w_q v_I(x_q) phi_J(x_q)`` (q on node I's
     disc), on the unknowns the run moves (dense; the free plate and modified MLS only:
     a projection is not applied)."""
+    Mc = pg_mass(dyn)
+    free = dyn.minv > 0
+    ev = scipy.linalg.eigvals(dyn.K.toarray()[np.ix_(free, free)], Mc[np.ix_(free, free)])
+    lam = np.abs(ev).max()
+    g = np.sqrt(ev.astype(complex)).imag
+    g[np.abs(ev) <= 1e-10 * lam] = 0.0
+    return float(g.max())
+
+
+def pg_mass(dyn) -> np.ndarray:
+    """The Petrov-Galerkin consistent mass ``M_c[2I+c, 2J+c] = rho sum_q w_q v_I(x_q)
+    phi_J(x_q)`` (q on node I's disc), dense (n_dofs, n_dofs); its row sums are the lumped M."""
     d = dyn.disc
     n = d.nodes.n
     phi = d.shape.phi.tocoo()
@@ -127,12 +153,64 @@ def consistent_growth(dyn) -> float:
     np.add.at(P, (owner[phi.row], phi.col), val)
     Mc = np.zeros((2 * n, 2 * n))
     Mc[0::2, 0::2] = Mc[1::2, 1::2] = P[:, :n]
-    free = dyn.minv > 0
-    ev = scipy.linalg.eigvals(dyn.K.toarray()[np.ix_(free, free)], Mc[np.ix_(free, free)])
-    lam = np.abs(ev).max()
-    g = np.sqrt(ev.astype(complex)).imag
-    g[np.abs(ev) <= 1e-10 * lam] = 0.0
-    return float(g.max())
+    return Mc
+
+
+def mass_alternatives(h: float = 0.25, iterations=(1, 2, 3, 4)) -> dict:
+    """The operator actually stepped when the consistent PG mass ``M_c`` (:func:`pg_mass`)
+    is applied by ``k`` preconditioned Richardson (Jacobi) iterations with the lumped mass
+    ``M_L`` as preconditioner: ``a = P_k M_L^-1 (f - K u)``, ``P_k = sum_{j<k} (I - M_L^-1
+    M_c)^j`` (k = 1: the lumped mass), and with ``M_c`` itself (k = inf; not explicit).
+    Per model (cubic weight, the plates of :func:`_mlpg_scenes` without collocation) and k:
+    ``gamma`` (the growth rate of ``P_k M_L^-1 K``, dense) and ``lambda_max`` over the
+    lumped one (the critical step falls by its square root)."""
+    out = {}
+    for case in ("free_cubic", "clamped_modified_mls_cubic", "clamped_penalty_cubic"):
+        scene, opts = _mlpg_scenes()[case]
+        dyn = dynamics(scene, MLPG(spacing=h, **opts))
+        free = dyn.minv > 0
+        K, Mc = dyn.K.toarray()[np.ix_(free, free)], pg_mass(dyn)[np.ix_(free, free)]
+        Li = np.diag(dyn.minv[free])
+        E = np.eye(len(K)) - Li @ Mc
+        ops = {}
+        P = np.zeros_like(K)
+        for k in range(1, max(iterations) + 1):
+            P = np.eye(len(K)) + E @ P  # sum_{j<k} E^j
+            if k in iterations:
+                ops[str(k)] = P @ Li @ K
+        ops["inf"] = np.linalg.solve(Mc, K)
+        lam0 = None
+        for k, A in ops.items():
+            ev = np.linalg.eigvals(A)
+            lam = float(np.abs(ev).max())
+            lam0 = lam if k == "1" else lam0
+            g = np.sqrt(ev.astype(complex)).imag
+            g[np.abs(ev) <= 1e-10 * lam] = 0.0
+            out.setdefault(case, {})[k] = {"gamma": float(g.max()), "lambda_ratio": lam / lam0}
+    return out
+
+
+def modal_energy_run(n: int, h: float = 0.25, chunk: int = 100) -> dict:
+    """The clamped penalty plate with the cubic weight at ``h`` (all eigenvalues of M^-1 K
+    real and positive there, dense): ``n`` steps at 0.98 dt_c in chunks, and the largest
+    relative change of the modal energy (:func:`efgkit.explicit.modal_energy`) against the
+    driver's modified energy drift (which assumes a symmetric K)."""
+    scene, opts = _mlpg_scenes()["clamped_penalty_cubic"]
+    method = MLPG(spacing=h, **opts)
+    dyn = dynamics(scene, method)
+    dtc, lam = stable_step(dyn)
+    energy = modal_energy(dyn)
+    st = initial_state(dyn, 0.98 * dtc)
+    e0, drift, steps, driver = energy(st), 0.0, 0, 0.0
+    try:
+        while steps < n:
+            sol = integrate(scene, method, Stepping(dt=0.98 * dtc), dyn=dyn, state=st,
+                            steps=min(chunk, n - steps), dsif=None, critical=(dtc, lam))
+            st, steps = sol.state, sol.state.step
+            drift, driver = max(drift, abs(energy(st) / e0 - 1)), sol.info["energy_drift"]
+    except InstabilityError as err:
+        steps, drift = err.step, float("inf")
+    return {"spacing": h, "steps": steps, "drift": drift, "driver_drift": driver, "chunk": chunk}
 
 
 def interior_symbols(h: float = 0.25) -> dict:
@@ -143,7 +221,7 @@ def interior_symbols(h: float = 0.25) -> dict:
     xi = np.stack(np.meshgrid(a, a), -1).reshape(-1, 2)
     for weight in ("gaussian", "quartic", "cubic"):
         dyn = dynamics(Scene(Domain.rectangle(0, 0, 3, 3), MAT, duration=1.0),
-                       MLPG(spacing=h, weight=weight))
+                       MLPG(spacing=h, weight=weight, explicit_weight="same"))
         x = dyn.disc.nodes.x
         low = np.linalg.eigvals(row_symbol(dyn, int(np.argmin(np.hypot(*(x - 1.5).T))), xi)
                                 ).real.min(axis=1)
@@ -185,6 +263,31 @@ def _mlpg(rep: Report, m: dict, h: float, n: int, quick: bool) -> None:
         # dense and Arnoldi agree to 4e-11 and better on these models (measured)
         rep.check(f"{key}: Arnoldi lambda_max against the dense eigenvalues", m["lambda_max_error"]
                   [key], "<=", 1e-8)
+        blow = m["blowup_step"][key]
+        rep.check(f"{key}: blow-up detected at 1.02 dt_c by step", n + 1 if blow is None else blow,
+                  "<=", n)
+
+
+def _mlpg_galerkin(rep: Report, m: dict, h: float, n: int, quick: bool) -> None:
+    """Rows ``mlpg/<case>_galerkin``: the symmetric Galerkin form of MLPG's trial functions
+    (``MLPG.explicit_form="galerkin"``, the default Gaussian weight) on the Gaussian rows'
+    models, checked as EFG (1e4 steps, drift, blow-up)."""
+    cases = ("free", "clamped_modified_mls") if quick else (
+        "free", "clamped_modified_mls", "clamped_penalty", "clamped_collocation")
+    for case in cases:
+        scene, opts = _mlpg_scenes()[case]
+        t0 = time.perf_counter()
+        method = MLPG(spacing=h, explicit_form="galerkin",
+                      **{k: v for k, v in opts.items() if k != "explicit_weight"})
+        dyn = dynamics(scene, method)
+        dtc, _ = stable_step(dyn)
+        key = f"mlpg/{case}_galerkin"
+        m["dt_critical"][key] = dtc
+        m["n_dofs"][key] = dyn.n_dofs
+        _below_and_above(m, key, scene, method, dyn, dtc, n)
+        m["seconds"][key] = time.perf_counter() - t0
+        rep.check(f"{key}: steps without blow-up at 0.98 dt_c", m["stable_steps"][key], ">=", n)
+        rep.check(f"{key}: energy drift at 0.98 dt_c", m["energy_drift"][key], "<=", DRIFT_BOUND)
         blow = m["blowup_step"][key]
         rep.check(f"{key}: blow-up detected at 1.02 dt_c by step", n + 1 if blow is None else blow,
                   "<=", n)
@@ -233,6 +336,15 @@ def main(quick: bool = False, out_dir=None) -> dict:
         rep.check(f"{key}: blow-up detected at 1.02 dt_c by step", n + 1 if blow is None else blow,
                   "<=", n)
     _mlpg(rep, m, h, n, quick)
+    _mlpg_galerkin(rep, m, h, n, quick)
+    m["explicit_auto_weight"] = EXPLICIT_AUTO_WEIGHT
+    m["mass_alternatives"] = mass_alternatives()
+    m["modal_energy"] = modal_energy_run(n)
+    # the one MLPG model with a real non-negative spectrum: its modal energy is conserved
+    rep.check("mlpg/clamped_penalty_cubic, h = 0.25: steps without blow-up at 0.98 dt_c",
+              m["modal_energy"]["steps"], ">=", n)
+    rep.check("mlpg/clamped_penalty_cubic, h = 0.25: modal energy drift at 0.98 dt_c",
+              m["modal_energy"]["drift"], "<=", DRIFT_BOUND)
     m["interior_symbol_min"] = interior_symbols()
     # the cubic weight's symbol is >= 0 (0 at xi = 0, the rigid translations; measured 5e-17)
     rep.check("mlpg cubic weight: interior symbol min / lambda_max", m["interior_symbol_min"]
@@ -263,7 +375,10 @@ def markdown(r: dict) -> list[str]:
             "(beta h / E = 1e3) lowers the critical step; the projection of the Lagrange "
             "constraints does not (it raises it slightly: the constrained motions drop out). "
             "The enrichment unknowns, with the diagonal of their consistent mass, lower it "
-            "too: compare cracked_pu and cracked_extrinsic_mls with cracked_plain.",
+            "too: compare cracked_pu and cracked_extrinsic_mls with cracked_plain. Rows "
+            "mlpg/..._galerkin: MLPG's trial functions (Gaussian weight) stepped in the symmetric "
+            "Galerkin form on the field cells (MLPG(explicit_form='galerkin')), stable and "
+            "energy-conserving by construction, as EFG; the other mlpg rows: MLPG1 (below).",
             "", *rows, "", *_mlpg_markdown(m)]
 
 
@@ -273,7 +388,7 @@ def _e(v) -> str:
 
 
 def _mlpg_markdown(m: dict) -> list[str]:
-    keys = [k for k in m["dt_critical"] if k.startswith("mlpg/")]
+    keys = [k for k in m["dt_critical"] if k in m.get("growth_rate", {})]  # MLPG1 rows
     rows = ["| MLPG1 model | growth rate gamma | its eigenvalue of M^-1 K | e-folds per step at "
             "0.98 dt_c | steps at 0.98 dt_c | energy drift, first steps | Arnoldi lambda_max "
             "error |", "|---|---|---|---|---|---|---|"]
@@ -297,7 +412,7 @@ def _cause_markdown(m: dict) -> list[str]:
     """Where the growing modes come from (module docstring)."""
     if "interior_symbol_min" not in m:
         return []
-    keys = [k for k in m["dt_critical"] if k.startswith("mlpg/")]
+    keys = [k for k in m["dt_critical"] if k in m.get("growth_rate", {})]  # MLPG1 rows
     cons = m.get("growth_rate_consistent_mass", {})
     rows = ["| MLPG1 model | gamma, lumped mass | gamma, consistent PG mass | negative eigenvalues "
             "of the symmetric part |", "|---|---|---|---|"]
@@ -305,6 +420,23 @@ def _cause_markdown(m: dict) -> list[str]:
              f"{'-' if k not in cons else format(cons[k], '.4g')} | "
              f"{m['symmetric_part_negative'][k]} |" for k in keys]
     sym = m["interior_symbol_min"]
+    alt = m.get("mass_alternatives", {})
+    ks = list(next(iter(alt.values()), {}))
+    arows = ["| model (cubic, h = 0.25) | " + " | ".join(f"k = {k}" for k in ks) + " |",
+             "|---|" + "---|" * len(ks)]
+    arows += [f"| {case} | " + " | ".join(f"{v[k]['gamma']:.3g} ({v[k]['lambda_ratio']:.2f})"
+                                           for k in ks) + " |" for case, v in alt.items()]
+    me = m.get("modal_energy")
+    extra = [] if not alt else [
+        "", "The consistent PG mass applied by k Jacobi iterations preconditioned by the lumped "
+        "mass (k = 1: the lumped mass; k = inf: the consistent mass solved): growth rate gamma "
+        "of the operator stepped and, in brackets, its lambda_max over the lumped one.", "", *arows]
+    if me:
+        extra += ["", f"Modal energy (efgkit.explicit.modal_energy) of the clamped penalty plate, "
+                  f"cubic weight, h = {me['spacing']} (all eigenvalues of M^-1 K real and "
+                  f"positive): {me['steps']} steps at 0.98 dt_c, largest relative change "
+                  f"{_e(me['drift'])} (the driver's modified energy, which assumes a symmetric K: "
+                  f"{_e(me['driver_drift'])})."]
     return ["Where the growing modes come from. Interior symbol of M^-1 K (centre node of a 3 x 3 "
             "plate, h = 0.25), its most negative eigenvalue over lambda_max: " + ", ".join(
                 f"{w} {v['min']:.3g} at xi h = ({v['xi_h'][0]:.3g}, {v['xi_h'][1]:.3g})"
@@ -312,7 +444,7 @@ def _cause_markdown(m: dict) -> list[str]:
             "in the bulk of any body (the default Gaussian weight: the checkerboard). The "
             "consistent Petrov-Galerkin mass (not explicit) and the symmetric part of K "
             "(symmetrising K for the dynamics) are shown for comparison: neither removes "
-            "every growing mode.", "", *rows]
+            "every growing mode.", "", *rows, *extra]
 
 
 if __name__ == "__main__":

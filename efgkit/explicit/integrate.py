@@ -52,7 +52,10 @@ watch_compiles()  # before anything here compiles
 BLOWUP_FACTOR = 1e3  # kinetic energy over the energy put in that means instability
 _MLPG_REMEDY = ("the unsymmetric MLPG1 K has modes that grow at any step "
                 "(efgkit.explicit.growth_rate gives their rate): a shorter run, "
-                "MLPG(weight='quartic') (slower growth), or EFG (docs/theory.md, 'Explicit MLPG')")
+                "MLPG(explicit_weight='cubic') if the Gaussian was stepped (no negative real "
+                "eigenvalues: slower growth), MLPG(explicit_form='galerkin') (the symmetric "
+                "form of the same trial functions: stable), or EFG (docs/theory.md, "
+                "'Explicit MLPG')")
 
 
 class InstabilityError(ArithmeticError):

@@ -4,7 +4,9 @@
 matrices of :func:`~efgkit.explicit.system.dynamics`; :func:`growth_rate` the rate of the
 fastest-growing mode of an unsymmetric (MLPG1) K, which no step size removes;
 :func:`row_symbol` the Fourier symbol of one row of ``M^-1 K``, whose sign away from the
-boundary tells where such modes come from (docs/theory.md, "Explicit MLPG").
+boundary tells where such modes come from (docs/theory.md, "Explicit MLPG");
+:func:`modal_energy` the energy the scheme conserves when K is not symmetric but ``M^-1 K``
+has a real non-negative spectrum (small models).
 """
 
 from __future__ import annotations
@@ -15,7 +17,7 @@ from scipy.sparse.linalg import LinearOperator, eigs, eigsh
 
 from .system import Dynamics
 
-__all__ = ["dense_operator", "growth_rate", "row_symbol", "stable_step"]
+__all__ = ["dense_operator", "growth_rate", "modal_energy", "row_symbol", "stable_step"]
 
 
 def _operator(dyn: Dynamics):
@@ -153,7 +155,7 @@ def row_symbol(dyn: Dynamics, node: int, wavenumbers: np.ndarray) -> np.ndarray:
     >>> from efgkit import MLPG, Domain, Elastic, Scene
     >>> from efgkit.explicit import dynamics
     >>> sc = Scene(Domain.rectangle(0, 0, 1, 1), Elastic(1.0, 0.3, rho=1.0), duration=1.0)
-    >>> dyn = dynamics(sc, MLPG(spacing=0.25, quadrature="midpoint"))
+    >>> dyn = dynamics(sc, MLPG(spacing=0.25, quadrature="midpoint", explicit_weight="same"))
     >>> S = row_symbol(dyn, 12, np.zeros((1, 2)))   # xi = 0: rigid translations
     >>> bool(np.abs(S).max() < 1e-10)
     True
@@ -170,3 +172,62 @@ def row_symbol(dyn: Dynamics, node: int, wavenumbers: np.ndarray) -> np.ndarray:
     e = np.exp(1j * (x - x[node]) @ xi.T)  # (n_nodes, k)
     S = np.stack([[rows[p, q::2] @ e for q in range(2)] for p in range(2)])  # (2, 2, k)
     return np.moveaxis(S, -1, 0) / dyn.m[2 * node]
+
+
+def modal_energy(dyn: Dynamics, rtol: float = 1e-9):
+    """The energy central differences conserve for an unsymmetric K with a real spectrum.
+
+    With ``y = M^1/2 u`` on the moving unknowns the unforced scheme is ``y^{n+1} - 2 y^n +
+    y^{n-1} = -dt^2 A y^n``, ``A`` of :func:`dense_operator`. If ``A = V Lambda V^-1`` with
+    ``Lambda`` real and ``>= 0``, then ``H = V^-T V^-1`` makes ``H A = V^-T Lambda V^-1``
+    symmetric and
+
+        E_H^{n-1/2} = 1/2 ydot . H ydot + 1/2 y^n . H A y^{n-1},  ydot = (y^n - y^{n-1}) / dt,
+
+    is conserved exactly (the modified-energy identity of :mod:`efgkit.explicit.integrate`
+    with ``H`` as metric: it needs only ``H`` symmetric and ``H A`` symmetric); in the modal
+    coordinates ``z = V^-1 y`` it is ``1/2 sum_k (zdot_k^2 + lambda_k z_k^n z_k^{n-1})``,
+    positive below the critical step. For a symmetric K, ``V`` is orthogonal and ``E_H`` is
+    the driver's modified energy. With a projection (Lagrange, collocation rows) ``A`` is
+    taken on an orthonormal basis of the admissible ``y``. Such an ``H`` exists exactly when
+    ``A`` is diagonalisable
+    with real eigenvalues; an eigenvalue off ``[0, inf)`` is a mode that grows at every step
+    (:func:`growth_rate`) and no conserved positive energy exists. Dense: small models only.
+
+    Returns
+    -------
+    energy : callable
+        ``energy(state) -> float`` of a :class:`~efgkit.explicit.integrate.State` (``u^n``,
+        ``v^{n-1/2}``, ``dt``), unforced runs.
+
+    Raises
+    ------
+    ValueError
+        ``A`` has an eigenvalue with an imaginary part or a negative real part beyond
+        ``rtol`` times the largest modulus (no such energy exists).
+    """
+    free = dyn.minv > 0
+    A = dense_operator(dyn)[np.ix_(free, free)]
+    N = np.eye(A.shape[0])  # an orthonormal basis of the admissible y (G M^-1/2 y = 0)
+    if dyn.projection is not None:
+        N = scipy.linalg.null_space(dyn.projection.G.toarray()[:, free] * np.sqrt(dyn.minv[free]))
+        A = N.T @ A @ N
+    lam, V = scipy.linalg.eig(A)
+    top = float(np.abs(lam).max())
+    worst = int(np.argmax(np.maximum(np.abs(lam.imag), -lam.real)))
+    if abs(lam[worst].imag) > rtol * top or lam[worst].real < -rtol * top:
+        raise ValueError(f"M^-1 K has the eigenvalue {complex(lam[worst]):.6g} (largest modulus "
+                         f"{top:.6g}), off the non-negative real axis beyond rtol = {rtol:g}: its mode "
+                         "grows at every step and central differences conserve no positive energy "
+                         "(docs/theory.md, 'Explicit MLPG'); a symmetric K (EFG) has none")
+    Vi = np.linalg.inv(V.real) @ N.T
+    lam = lam.real
+    sm = np.sqrt(dyn.m[free])
+
+    def energy(state) -> float:
+        y1 = Vi @ (sm * state.u[free])
+        y0 = Vi @ (sm * (state.u - state.dt * state.v)[free])
+        ydot = (y1 - y0) / state.dt
+        return float(0.5 * (ydot @ ydot + (lam * y1) @ y0))
+
+    return energy

@@ -27,7 +27,10 @@ form is in K (its prescribed values in ``f_bc``); ``"modified_mls"``: as above;
 ``"collocation"``: the rows ``u^h_c(x_I) = ubar_c(x_I)`` at the essential nodes are imposed
 by the projection (the equations of those nodes are kept, with the constraint's reaction,
 instead of replaced as in the static solve). K is not symmetric: docs/theory.md
-("Explicit MLPG") on its spectrum and the energy balance.
+("Explicit MLPG") on its spectrum and the energy balance; the trial weight of explicit runs
+is ``MLPG.explicit_weight`` (:func:`~efgkit.explicit.mlpg_weight.explicit_mlpg`);
+``MLPG.explicit_form="galerkin"`` steps the symmetric Galerkin form of the same trial
+functions instead (:mod:`efgkit.explicit.galerkin_form`).
 """
 
 from __future__ import annotations
@@ -52,6 +55,8 @@ from ..static import DEFAULT_PENALTY, DEFAULT_STABILISATION
 from ..system.assemble import stiffness
 from ..system.constraints import lagrange, modified_variational, penalty
 from ..system.mass import ENRICHMENT_MASSES, row_sum_mass
+from .galerkin_form import galerkin_system
+from .mlpg_weight import explicit_mlpg
 from .moving import split_values, still_scene
 
 __all__ = ["Dynamics", "Projection", "dynamics", "fit_coefficients", "local_dynamics"]
@@ -317,24 +322,33 @@ def local_dynamics(scene: Scene, method: MLPG, disc: Discretization | None = Non
                          "tip enrichment only (its enrichment rows are Galerkin rows over the "
                          "field quadrature and have no lumped mass on the sub-domains); give "
                          "MLPG(..., enrichment='none') or use EFG")
+    if disc is None:  # the trial weight of explicit runs (MLPG.explicit_weight)
+        method = explicit_mlpg(method)
     disc = discretize_local(scene, method) if disc is None else disc
     mat, timings = scene.material, {}
     t0 = time.perf_counter()
     alpha = None
     if method.bc == "penalty" and scene.supports:
         alpha = (method.penalty or DEFAULT_MLPG_PENALTY) * mat.E / method.spacing
-    K, _ = local_system(disc, alpha)
-    timings["stiffness"] = time.perf_counter() - t0
-    t0 = time.perf_counter()
-    m = row_sum_mass(disc.shape, disc.points.w, mat.rho, node_x=disc.nodes.x, test=disc.test)
-    timings["mass"] = time.perf_counter() - t0
-    t0 = time.perf_counter()
     parts = _load_scenes(scene)
-    F = np.column_stack([local_loads(disc, None, s) for s, _ in parts]) if parts \
-        else np.zeros((disc.n_dofs, 0))
     histories = tuple(g for _, g in parts)
-    f_bc = np.zeros(disc.n_dofs)
-    Q, qh = None, ()
+    if method.explicit_form == "galerkin":  # symmetric: efgkit.explicit.galerkin_form
+        disc, K, m, F, f_bc, Q, qh = galerkin_system(scene, disc, parts, alpha)
+        if Q is not None:  # moving penalty supports: load columns with their histories
+            F, histories, Q, qh = np.column_stack([F, Q]), histories + qh, None, ()
+        timings["stiffness"] = time.perf_counter() - t0  # with mass and loads
+        alpha, t0 = None, time.perf_counter()
+    else:
+        K, _ = local_system(disc, alpha)
+        timings["stiffness"] = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        m = row_sum_mass(disc.shape, disc.points.w, mat.rho, node_x=disc.nodes.x, test=disc.test)
+        timings["mass"] = time.perf_counter() - t0
+        t0 = time.perf_counter()
+        F = np.column_stack([local_loads(disc, None, s) for s, _ in parts]) if parts \
+            else np.zeros((disc.n_dofs, 0))
+        f_bc = np.zeros(disc.n_dofs)
+        Q, qh = None, ()
     if alpha is not None:  # the prescribed values of the penalty term: forcing
         quiet = [replace(c, pressure=0.0) for c in scene.cracks]
 

@@ -31,9 +31,12 @@ from .efg import (
     check_positive,
 )
 
-__all__ = ["MLPG", "MLPG_BC_METHODS", "MLPG_QUADRATURES", "MLPG_SOLVERS"]
+__all__ = ["EXPLICIT_FORMS", "EXPLICIT_WEIGHTS", "MLPG", "MLPG_BC_METHODS", "MLPG_QUADRATURES",
+           "MLPG_SOLVERS"]
 
 MLPG_BC_METHODS = ("penalty", "modified_mls", "collocation")
+EXPLICIT_WEIGHTS = ("auto", "same", *WEIGHTS)  # MLPG.explicit_weight
+EXPLICIT_FORMS = ("petrov_galerkin", "galerkin")  # MLPG.explicit_form
 MLPG_QUADRATURES = ("midpoint", "gauss")
 MLPG_SOLVERS = ("auto", "direct", "gmres", "bicgstab")
 
@@ -110,6 +113,20 @@ class MLPG(MeshlessChoices):
         at the rim of the nearest discs (shear edge crack, h = 0.35: tractions of 262 on the
         lower face against 2.9 with face nodes, K_I 31.97 against 34.59; Wilson 34.0).
         A cloud with a node row on the crack is unchanged. False: the seed's cloud.
+    explicit_weight : {"auto", "same", "gaussian", "quartic", "cubic"}
+        Trial weight of explicit (central-difference) runs only
+        (:func:`efgkit.explicit.explicit_mlpg`); static solves use ``weight``. "auto": the
+        cubic spline when ``weight`` is the Gaussian, whose pairing with the quartic test
+        function gives M^-1 K negative real eigenvalues (modes growing at any step; the
+        cubic weight leaves slowly growing complex pairs only: docs/theory.md, "Explicit
+        MLPG"), with a warning; otherwise ``weight``. "same": ``weight``. With
+        ``explicit_form="galerkin"`` "auto" keeps ``weight`` (a symmetric K has no such modes).
+    explicit_form : {"petrov_galerkin", "galerkin"}
+        The equations of explicit runs only: MLPG1's local Petrov-Galerkin rows (seed 002),
+        or the symmetric Bubnov-Galerkin form of the same trial functions on the field
+        cells (:mod:`efgkit.explicit.galerkin_form`), whose ``M^-1 K`` has real non-negative
+        eigenvalues by construction (stable below the critical step for runs of any length,
+        energy conserved); it is not MLPG1.
 
     Examples
     --------
@@ -151,6 +168,8 @@ class MLPG(MeshlessChoices):
     ramp: str = "quintic"
     ramp_inner: float = 0.0
     crack_nodes: bool = True
+    explicit_weight: str = "auto"
+    explicit_form: str = "petrov_galerkin"
 
     kind = "mlpg"
 
@@ -176,6 +195,8 @@ class MLPG(MeshlessChoices):
         if self.penalty is not None:
             check_positive("penalty", self.penalty)
         check_choice("solver", self.solver, MLPG_SOLVERS)
+        check_choice("explicit_weight", self.explicit_weight, EXPLICIT_WEIGHTS)
+        check_choice("explicit_form", self.explicit_form, EXPLICIT_FORMS)
         self.check_cracks()
 
     @property
