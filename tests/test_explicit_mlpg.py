@@ -15,6 +15,9 @@ from efgkit.problem.history import Heaviside, Stepping
 
 L, H, E, RHO = 4.0, 0.5, 1000.0, 1.0
 C = np.sqrt(E / RHO)  # bar wave speed, nu = 0 plane stress: exactly 1D
+# seed 002 Sect. 4 (Gaussian k = 2, test discs 1.1 h), MLPG's default until issue 14 moved it to
+# k = 1, 1.5 h: the settings the measurements below were made with
+SEED = dict(weight_k=2, test_radius=1.1)
 
 
 def plate(rho=1.0, **kw):
@@ -26,7 +29,7 @@ def test_mass_is_rho_times_the_test_function_integral_over_the_disc():
     # the quartic spline of Eq. 8 integrates to 2 pi r_s^2 int_0^1 (1 - 6s^2 + 8s^3 - 3s^4) s ds
     # = 0.2 pi r_s^2 (closed form; the Gauss disc rule is exact for it: measured 2e-15).
     rho = 3.0
-    dyn = dynamics(plate(rho), MLPG(spacing=0.25))
+    dyn = dynamics(plate(rho), MLPG(spacing=0.25, **SEED))
     x, rs = dyn.disc.nodes.x, dyn.disc.local.radii
     inner = np.min(np.column_stack([x[:, 0], 2 - x[:, 0], x[:, 1], 1 - x[:, 1]]), axis=1) > rs
     assert inner.sum() == 5
@@ -59,14 +62,15 @@ def test_growth_rate_of_the_unsymmetric_stiffness():
     # EFG (symmetric, semi-definite): none.
     u0 = dict(initial_displacement=lambda x: np.column_stack([0.01 * x[:, 0] ** 2, 0 * x[:, 0]]))
     scene = plate(**u0)
-    dyn = dynamics(scene, MLPG(spacing=0.25))
+    dyn = dynamics(scene, MLPG(spacing=0.25, **SEED))
     g, lam = growth_rate(dyn)
     assert lam.real < 0 and g == pytest.approx(math.sqrt(-lam.real), rel=1e-12)
     g2, lam2 = growth_rate(dyn, dense_below=0)  # Arnoldi on A - lambda_max I: same mode
     assert g2 == pytest.approx(g, rel=1e-8)  # measured 1e-13
     dtc, lam_max = stable_step(dyn)
     with pytest.raises(InstabilityError, match="blew up at step .* MLPG1 K has modes that grow at any"):
-        integrate(scene, MLPG(spacing=0.25), Stepping(dt=0.98 * dtc), dyn=dyn, steps=2000, dsif=None)
+        integrate(scene, MLPG(spacing=0.25, **SEED), Stepping(dt=0.98 * dtc), dyn=dyn, steps=2000,
+                  dsif=None)
     assert growth_rate(dynamics(scene, EFG(spacing=0.25)))[0] == 0.0
 
 
@@ -79,7 +83,7 @@ def test_step_load_front_travels_at_the_bar_speed():
     scene = Scene(Domain.rectangle(0, 0, L, H), Elastic(E, 0.0, "stress", rho=RHO),
                   supports=(Support("left", ux=0.0),), duration=3 * L / C,
                   tractions=(Traction("right", (sigma, 0.0), history=Heaviside()),))
-    sol = integrate(scene, MLPG(spacing=0.25, bc="modified_mls"),
+    sol = integrate(scene, MLPG(spacing=0.25, bc="modified_mls", **SEED),
                     Stepping(probes=((L, H / 2),), output_interval=L / C / 100), dsif=None)
     t, u = sol.t, sol.history["u"][:, 0, 0]
     mid = (t > 0.3 * L / C) & (t < 1.7 * L / C)
