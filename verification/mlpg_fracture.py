@@ -154,10 +154,12 @@ def main(quick: bool = False, out_dir=None) -> dict:
             "(graded P2, quarter-point tip, h = 0.125 mm)")
     rep.ref("J_sent_axial", SENT_J_FEM["axial"], "efgkit FEM, verification/out/sent.json "
             "metrics.investigation['grips: only u_x prescribed (u_y free)'] (P2, h = 0.5 mm)")
-    if quick:  # 9 x 9: extrinsic MLS measured 6e-5
+    if quick:  # 9 x 9: extrinsic MLS measured 1.9e-3 with the default weight (k = 1, r_s = 1.5 h;
+        # 6e-5 with the seed's k = 2, r_s = 1.1 h, which is erratic on traction-loaded plates;
+        # docs/theory.md, MLPG1 "Default weight")
         rep.check("K_error mlpg/extrinsic_mls 9x9", K_error["singular_patch/mlpg/extrinsic_mls/9x9"],
-                  "<=", 2e-4)
-        # SENT clamped, 20 nodes across, extrinsic MLS: measured J error 6.6e-3
+                  "<=", 5e-3)
+        # SENT clamped, 20 nodes across, extrinsic MLS: measured J error 9.2e-3 (seed weight 6.7e-3)
         rep.check("SENT clamped J_error mlpg/extrinsic_mls 20", J_error["sent_clamped/mlpg/extrinsic_mls/20"],
                   "<=", 2e-2)
     else:
