@@ -19,6 +19,9 @@ pytestmark = pytest.mark.filterwarnings("ignore:explicit MLPG. the trial weight:
 
 L, H, E, RHO = 4.0, 0.5, 1000.0, 1.0
 C = np.sqrt(E / RHO)  # bar wave speed, nu = 0 plane stress: exactly 1D
+# seed 002 Sect. 4 (Gaussian k = 2, test discs 1.1 h), MLPG's default until issue 14 moved it to
+# k = 1, 1.5 h: the settings the measurements below were made with
+SEED = dict(weight_k=2, test_radius=1.1)
 
 
 def plate(rho=1.0, **kw):
@@ -30,7 +33,7 @@ def test_mass_is_rho_times_the_test_function_integral_over_the_disc():
     # the quartic spline of Eq. 8 integrates to 2 pi r_s^2 int_0^1 (1 - 6s^2 + 8s^3 - 3s^4) s ds
     # = 0.2 pi r_s^2 (closed form; the Gauss disc rule is exact for it: measured 2e-15).
     rho = 3.0
-    dyn = dynamics(plate(rho), MLPG(spacing=0.25))
+    dyn = dynamics(plate(rho), MLPG(spacing=0.25, **SEED))
     x, rs = dyn.disc.nodes.x, dyn.disc.local.radii
     inner = np.min(np.column_stack([x[:, 0], 2 - x[:, 0], x[:, 1], 1 - x[:, 1]]), axis=1) > rs
     assert inner.sum() == 5
@@ -63,7 +66,7 @@ def test_growth_rate_of_the_unsymmetric_stiffness():
     # EFG (symmetric, semi-definite): none.
     u0 = dict(initial_displacement=lambda x: np.column_stack([0.01 * x[:, 0] ** 2, 0 * x[:, 0]]))
     scene = plate(**u0)
-    gaussian = MLPG(spacing=0.25, explicit_weight="same")  # step the Gaussian itself
+    gaussian = MLPG(spacing=0.25, explicit_weight="same", **SEED)  # step the Gaussian itself
     dyn = dynamics(scene, gaussian)
     g, lam = growth_rate(dyn)
     assert lam.real < 0 and g == pytest.approx(math.sqrt(-lam.real), rel=1e-12)
@@ -86,7 +89,7 @@ def test_step_load_front_travels_at_the_bar_speed():
     scene = Scene(Domain.rectangle(0, 0, L, H), Elastic(E, 0.0, "stress", rho=RHO),
                   supports=(Support("left", ux=0.0),), duration=3 * L / C,
                   tractions=(Traction("right", (sigma, 0.0), history=Heaviside()),))
-    sol = integrate(scene, MLPG(spacing=0.25, bc="modified_mls"),
+    sol = integrate(scene, MLPG(spacing=0.25, bc="modified_mls", **SEED),
                     Stepping(probes=((L, H / 2),), output_interval=L / C / 100), dsif=None)
     t, u = sol.t, sol.history["u"][:, 0, 0]
     mid = (t > 0.3 * L / C) & (t < 1.7 * L / C)

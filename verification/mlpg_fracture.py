@@ -10,7 +10,9 @@ The SENT of seed 001 Sect. 4 (``sent``: 50 x 10 mm, a = 5 mm, plane strain) with
 conditions of docs/verification.md: clamped (u_x, u_y prescribed at the ends; the specimen as
 specified) and axial-only (u_x at the ends, u_y = 0 on a piece W/n long at the middle of the
 left end). MLPG plain (seed 002: visibility, quadratic basis, d_max 2.5; d_max 3, the remedy
-for singular moment matrices elsewhere, gave J errors of 8-150 % here) and MLPG with extrinsic
+for singular moment matrices elsewhere, gave J errors of 8-150 % here with the seed's weight
+k = 2, r_s = 1.1 h; every MLPG row uses MLPG's default weight, k = 1, r_s = 1.5 h, the seed's
+is compared in docs/theory.md, MLPG1 "Default weight") and MLPG with extrinsic
 MLS enrichment and the diffraction rule, at n nodes across W; EFG's defaults (enriched,
 Nitsche grips) beside. J from :meth:`Solution.sifs` (domain integral, radii 1, 2, 3, 4 mm, the
 radii of ``sent``), against efgkit's FEM reference of the ``sent`` record: clamped J = 6.87072
@@ -81,7 +83,8 @@ def markdown(r: dict) -> list[str]:
     rows += [f"| {k} | {v:.2e} | {m['energy_error'][k]:.2e} |"
              for k, v in m["K_error"].items() if k.startswith("singular_patch")]
     out = ["Singular patch of ``singular_patch`` (K_I = 1 or K_II = 1, suffix /II), K as the "
-           "mean over the interaction-integral discs 0.3, 0.5, 0.7. MLPG plain: seed 002's "
+           "mean over the interaction-integral discs 0.3, 0.5, 0.7. MLPG: the default weight "
+           "(Gaussian k = 1, test discs 1.5 h); MLPG plain: seed 002's "
            "visibility rule without enrichment; EFG plain: the linear basis of "
            "``singular_patch``.", "", *rows]
     if "J_sent" not in m:
@@ -90,14 +93,16 @@ def markdown(r: dict) -> list[str]:
             "|---|---|---|---|"]
     rows += [f"| {k.removeprefix('sent_')} | {J:.4f} | {m['J_error'][k]:.2e} | {m['K_error'][k]:.2e} |"
              for k, J in m["J_sent"].items()]
+    plain = [f"{100 * m['J_error'][k]:.2g} %" for k in m["J_error"] if k.startswith("sent_axial/mlpg/plain/")]
     return out + ["", "SENT of seed 001 (``sent``), both grip conditions, J (domains 1-4 mm) against "
                   f"efgkit's FEM reference: clamped {SENT_J_FEM['clamped']:.5f} N/mm, axial-only "
                   f"{SENT_J_FEM['axial']:.5f} N/mm (``sent`` record); K_I error against "
                   "sqrt(J_FEM E / (1 - nu^2)). MLPG plain: seed 002's visibility rule, quadratic "
                   "basis, d_max 2.5; MLPG extrinsic_mls: diffraction rule; EFG default: "
                   "EFG(spacing=W/n, bc='variational'). Target: J within 0.3 % at <= 80 nodes "
-                  "across. MLPG plain is not monotone in n (axial-only: 2.1 %, 9.2 %, 0.27 % at 20, 40, 80): "
-                  "its 80-node axial row meets 0.3 % by a sign change, not by convergence.", "", *rows]
+                  f"across. MLPG plain, axial-only, at {', '.join(str(n) for n in SENT_SIZES[:len(plain)])} "
+                  f"across: {', '.join(plain)} (with seed 002's weight k = 2, r_s = 1.1 h 2.0 %, "
+                  "41 %, 0.26 %: erratic in n; docs/theory.md, MLPG1).", "", *rows]
 
 
 def main(quick: bool = False, out_dir=None) -> dict:
@@ -149,10 +154,12 @@ def main(quick: bool = False, out_dir=None) -> dict:
             "(graded P2, quarter-point tip, h = 0.125 mm)")
     rep.ref("J_sent_axial", SENT_J_FEM["axial"], "efgkit FEM, verification/out/sent.json "
             "metrics.investigation['grips: only u_x prescribed (u_y free)'] (P2, h = 0.5 mm)")
-    if quick:  # 9 x 9: extrinsic MLS measured 6e-5
+    if quick:  # 9 x 9: extrinsic MLS measured 1.9e-3 with the default weight (k = 1, r_s = 1.5 h;
+        # 6e-5 with the seed's k = 2, r_s = 1.1 h, which is erratic on traction-loaded plates;
+        # docs/theory.md, MLPG1 "Default weight")
         rep.check("K_error mlpg/extrinsic_mls 9x9", K_error["singular_patch/mlpg/extrinsic_mls/9x9"],
-                  "<=", 2e-4)
-        # SENT clamped, 20 nodes across, extrinsic MLS: measured J error 6.6e-3
+                  "<=", 5e-3)
+        # SENT clamped, 20 nodes across, extrinsic MLS: measured J error 9.2e-3 (seed weight 6.7e-3)
         rep.check("SENT clamped J_error mlpg/extrinsic_mls 20", J_error["sent_clamped/mlpg/extrinsic_mls/20"],
                   "<=", 2e-2)
     else:
