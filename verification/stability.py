@@ -170,7 +170,7 @@ def mass_alternatives(h: float = 0.25, iterations=(1, 2, 3, 4)) -> dict:
     out = {}
     for case in ("free_cubic", "clamped_modified_mls_cubic", "clamped_penalty_cubic"):
         scene, opts = _mlpg_scenes()[case]
-        dyn = dynamics(scene, MLPG(spacing=h, **opts))
+        dyn = dynamics(scene, MLPG(spacing=h, **SEED_WEIGHT, **opts))
         free = dyn.minv > 0
         K, Mc = dyn.K.toarray()[np.ix_(free, free)], pg_mass(dyn)[np.ix_(free, free)]
         Li = np.diag(dyn.minv[free])
@@ -199,7 +199,7 @@ def modal_energy_run(n: int, h: float = 0.25, chunk: int = 100) -> dict:
     relative change of the modal energy (:func:`efgkit.explicit.modal_energy`) against the
     driver's modified energy drift (which assumes a symmetric K)."""
     scene, opts = _mlpg_scenes()["clamped_penalty_cubic"]
-    method = MLPG(spacing=h, **opts)
+    method = MLPG(spacing=h, **SEED_WEIGHT, **opts)
     dyn = dynamics(scene, method)
     dtc, lam = stable_step(dyn)
     energy = modal_energy(dyn)
@@ -281,7 +281,7 @@ def _mlpg_galerkin(rep: Report, m: dict, h: float, n: int, quick: bool) -> None:
     for case in cases:
         scene, opts = _mlpg_scenes()[case]
         t0 = time.perf_counter()
-        method = MLPG(spacing=h, explicit_form="galerkin",
+        method = MLPG(spacing=h, explicit_form="galerkin", **SEED_WEIGHT,
                       **{k: v for k, v in opts.items() if k != "explicit_weight"})
         dyn = dynamics(scene, method)
         dtc, _ = stable_step(dyn)
