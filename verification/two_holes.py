@@ -60,6 +60,7 @@ import numpy as np
 from _report import Report, growth_figures
 
 from efgkit import EFG, Crack, Domain, Elastic, Scene, Support, Traction
+from efgkit.approx.mls import SingularMomentMatrix
 from efgkit.growth import Growth, grow
 from efgkit.problem.geometry import Loop
 
@@ -98,9 +99,14 @@ def run(case: str, spacing: float, da: float, max_steps: int, fig_dir=None) -> d
     """Grow both cracks of ``case``; their paths and K histories (and figures)."""
     method = EFG(spacing=spacing, d_max=D_MAX, enrichment="none")
     t0 = time.perf_counter()
+    steps, failure = [], None
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        steps = list(grow(scene(*CASES[case]), method, Growth(da=da, max_steps=max_steps, snap=0.5)))
+        try:
+            for st in grow(scene(*CASES[case]), method, Growth(da=da, max_steps=max_steps, snap=0.5)):
+                steps.append(st)
+        except SingularMomentMatrix as err:  # the next scene cannot be discretised: say so
+            failure = f"the next step's discretisation fails: {err}"
     last = steps[-1].state if steps[-1].state is not None else steps[-1].scene
     verts = {c.name: c.vertices.tolist() for c in last.cracks}
     if steps[-1].state is None:  # a stop: the increment that reached a hole is not in the scene
@@ -109,7 +115,8 @@ def run(case: str, spacing: float, da: float, max_steps: int, fig_dir=None) -> d
             if end is not None:
                 verts[t.tip.crack].append(end)
     out = {"vertices": verts,
-           "stop": steps[-1].stop, "events": [e for s in steps for e in s.events],
+           "stop": failure or steps[-1].stop, "events": [e for s in steps for e in s.events]
+           + ([] if steps[-1].state is None else list(steps[-1].state.events)),
            "n_solves": len(steps), "seconds": time.perf_counter() - t0}
     for key in ("KI", "KII"):
         out[key] = {c.name: [next((getattr(t, key) for t in s.tips if t.tip.crack == c.name), None)
@@ -216,7 +223,9 @@ def main(quick: bool = False, out_dir=None) -> dict:
         r["landing"] = landing(r)
         if key.startswith("45_45"):
             rot = -v["right"]  # the half turn about the origin maps the right crack on the left
-            n = min(len(rot), len(v["left"]))
+            # up to the increment of the first arrival (after it the tip that arrived second
+            # was held for a solve, so the last vertices differ)
+            n = min(len(rot), len(v["left"])) - 1
             asym = float(np.max(np.linalg.norm(rot[:n] - v["left"][:n], axis=1)))
             r["half_turn_asymmetry"] = asym
             # measured: 2.5e-4 mm quick; full: 0.045, 0.079, 0.19 mm at da = 0.5, 0.25, 0.125
@@ -237,8 +246,9 @@ def main(quick: bool = False, out_dir=None) -> dict:
             rep.check(f"{key}: after passing, left path turns towards the other crack: steepest "
                       "- flattest heading after the first kink, degrees",
                       float(np.min(h[1:]) - np.max(h[1:])), "<=", -10.0)
+            last = np.array([k[np.isfinite(k)][-1] for k in KI])  # a tip that joined has no K
             rep.check(f"{key}: K_I falls after the tips pass (seed Fig. 46): last / largest K_I, "
-                      "larger over the tips", float(np.max(KI[:, -1] / np.max(KI, axis=1))), "<=", 0.8)
+                      "larger over the tips", float(np.max(last / np.nanmax(KI, axis=1))), "<=", 0.8)
     if not quick:
         das = plan["45_45"]
         rep.metrics["y_at_centre_45"] = [y_at_centre(runs[f"45_45/da={da:g}"]["vertices"]["left"])
