@@ -54,12 +54,16 @@ names it). The seed's bridging (a tip curving round into the other crack's face 
 its tip) would be a junction, which the loop supports (tests/test_junctions.py), but it is
 not reached with these dimensions: the tips reach the holes first. With the holes further
 apart (centres at -+3.5 mm, not in the record) the 15/5 tips pass 0.3 mm apart and hook
-towards each other's faces (the left tip came within 0.07 mm of the right crack's face at
-h = 0.25 mm), but the discretisation of the sliver between the passing cracks fails before
-a tip joins (h = 0.25 mm; BRIDGING_PLACEHOLDER). Earlier, at 15 and 5 degrees with da =
-0.25 mm (h = 0.25 mm, not in the record) the run ended on a singular moment matrix
-at (0.59, 0.03) mm, where the passing paths come close (0.03 mm apart at da = 0.5 mm): too
-few nodes see the points of the sliver between them. Quick mode: alpha = beta = 45,
+towards each other's faces, but with da = 0.5 mm a tip turns along the other crack's face
+rather than into it, and the sliver between the passing cracks cannot be discretised
+before a tip joins: at h = 0.25 mm the left tip came within 0.07 mm of the right crack's
+face, at h = 0.125 mm within 0.1 mm (step 6: K_I 36, K_II -114 MPa sqrt(mm); the next
+step fails on a singular moment matrix beside the kinked paths). Reaching the junction
+would take da well below the gap (~0.1 mm) and nodes finer than it there. At 15 and 5
+degrees with the record's holes and da = 0.25 mm (h = 0.25 mm, not in the record) the run
+ended on a singular moment matrix at (0.59, 0.03) mm, where the passing paths come close
+(0.03 mm apart at da = 0.5 mm): too few nodes see the points of the sliver between them.
+Quick mode: alpha = beta = 45,
 h = 0.5 mm, da = 0.5 mm, two increments.
 """
 
