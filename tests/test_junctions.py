@@ -221,3 +221,13 @@ def test_k_near_a_junction_against_the_energy_release_rate():
         G = (u[1] - u[0]) / (h / 2)
         assert abs((r.KI ** 2 + r.KII ** 2) / (E * G) - 1) < 0.015
         assert r.spread < 0.01
+
+
+def test_simultaneous_arrivals_are_not_ordered():
+    # a centre crack whose two tips reach the two edges in the same increment, at the same
+    # s / da (a symmetric plate): no order to hold one by, the increment cuts the plate
+    c = Crack([[0.3, 1.0], [1.7, 1.0]], name="c")
+    adv = advance(plate((c,)), {"c:0": (0.3, 0.0), "c:1": (0.3, 0.0)})
+    assert adv.scene is None and adv.held == ()
+    assert adv.stop.startswith("the cracks 'c' cut the body into separate pieces (tip c:0 reached "
+                               "the boundary at [0.0, 1.0] (after 0.3); it is a mouth now; tip c:1")

@@ -28,6 +28,7 @@ from ..problem.junctions import split_by_cracks
 __all__ = ["JOIN_SNAP", "Advance", "advance", "ray_hits"]
 
 JOIN_SNAP = 0.1  # an increment ending within this fraction of da of another crack joins it
+TIE = 1e-9  # arrivals within this fraction of da of each other are simultaneous (none held)
 
 
 def ray_hits(origin: np.ndarray, direction: np.ndarray, segments: np.ndarray) -> np.ndarray:
@@ -83,9 +84,10 @@ def advance(scene, moves: dict, snap: float = 0.5) -> Advance:
     the body but the earlier ones alone do not (two cracks from two holes that each reach
     the other's hole, seed 003 Sect. 6.1), the later tips are held: they do not move in
     this increment (an event says so, ``Advance.held`` names them), and the next solve,
-    with the earlier arrivals joined, gives them their K and kink. Only when the first
-    arrival itself cuts a piece off (or holding cannot avoid the cut) does the increment
-    stop, naming every arrival.
+    with the earlier arrivals joined, gives them their K and kink. Arrivals within ``TIE``
+    da of each other are simultaneous (both ends of a centre crack reaching the two edges
+    of a symmetric plate): none is held. Only when the first arrival itself cuts a piece
+    off (or holding cannot avoid the cut) does the increment stop, naming every arrival.
 
     Parameters
     ----------
@@ -106,6 +108,8 @@ def advance(scene, moves: dict, snap: float = 0.5) -> Advance:
         return adv
     order = sorted(arrival, key=lambda k: arrival[k][0])  # first arrival first
     for n_keep in range(len(order) - 1, 0, -1):
+        if arrival[order[n_keep]][0] <= arrival[order[n_keep - 1]][0] + TIE:
+            continue  # arriving together (a symmetric scene): no order to hold one by
         held = order[n_keep:]
         trial, _, _ = _extend(scene, {k: v for k, v in moves.items() if k not in held}, snap)
         if trial.stop is None:
