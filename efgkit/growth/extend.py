@@ -11,7 +11,9 @@ end within ``JOIN_SNAP da`` of another crack's face joins it (smaller: cracks th
 close by, as in seed 003 Sect. 6.1 at 15 and 5 degrees, must not be pulled together).
 Other tips go on growing; the loop stops only when the cracks cut a piece off the body
 (:func:`~efgkit.problem.junctions.split_by_cracks`, a rigid-body mode) or a tip runs into
-its own crack.
+its own crack. Tips that arrive in the same increment arrive in the order of ``s / da``
+(the tips grow together over an increment): a later arrival that would cut a piece off
+together with an earlier one is held for the next solve (:func:`advance`).
 """
 
 from __future__ import annotations
@@ -26,6 +28,7 @@ from ..problem.junctions import split_by_cracks
 __all__ = ["JOIN_SNAP", "Advance", "advance", "ray_hits"]
 
 JOIN_SNAP = 0.1  # an increment ending within this fraction of da of another crack joins it
+TIE = 1e-9  # arrivals within this fraction of da of each other are simultaneous (none held)
 
 
 def ray_hits(origin: np.ndarray, direction: np.ndarray, segments: np.ndarray) -> np.ndarray:
@@ -59,16 +62,32 @@ class Advance:
         Ids of the tips that reached the boundary or another crack in this increment.
     stop : str or None
         Why the loop cannot go on (the cracks cut a piece off, a crack runs into itself).
+    held : tuple of str
+        Ids of tips whose increment was not made because, together with a tip that arrived
+        earlier in the same increment, it would cut a piece off (they grow again from the
+        next solve, which sees the earlier arrival).
     """
 
     scene: object
     events: tuple[str, ...] = ()
     joined: tuple[str, ...] = ()
     stop: str | None = None
+    held: tuple[str, ...] = ()
 
 
 def advance(scene, moves: dict, snap: float = 0.5) -> Advance:
     """Extend tips of ``scene`` by ``moves = {tip id: (da, kink angle)}``.
+
+    Tips that reach the boundary or another crack in the same increment arrive in the
+    order of ``s / da``, the fraction of its increment each has grown when it arrives (the
+    tips grow together over the increment). When their arrivals together cut a piece off
+    the body but the earlier ones alone do not (two cracks from two holes that each reach
+    the other's hole, seed 003 Sect. 6.1), the later tips are held: they do not move in
+    this increment (an event says so, ``Advance.held`` names them), and the next solve,
+    with the earlier arrivals joined, gives them their K and kink. Arrivals within ``TIE``
+    da of each other are simultaneous (both ends of a centre crack reaching the two edges
+    of a symmetric plate): none is held. Only when the first arrival itself cuts a piece
+    off (or holding cannot avoid the cut) does the increment stop, naming every arrival.
 
     Parameters
     ----------
@@ -84,6 +103,29 @@ def advance(scene, moves: dict, snap: float = 0.5) -> Advance:
     -------
     Advance
     """
+    adv, arrival, cut = _extend(scene, moves, snap)
+    if not cut or len(arrival) < 2:
+        return adv
+    order = sorted(arrival, key=lambda k: arrival[k][0])  # first arrival first
+    for n_keep in range(len(order) - 1, 0, -1):
+        if arrival[order[n_keep]][0] <= arrival[order[n_keep - 1]][0] + TIE:
+            continue  # arriving together (a symmetric scene): no order to hold one by
+        held = order[n_keep:]
+        trial, _, _ = _extend(scene, {k: v for k, v in moves.items() if k not in held}, snap)
+        if trial.stop is None:
+            first = ", ".join(order[:n_keep])
+            notes = tuple(f"tip {k} held: its increment would reach {arrival[k][1]} after "
+                          f"{arrival[k][0]:.4g} da, and with tip {first} (arrived after "
+                          f"{arrival[order[0]][0]:.4g} da) cut a piece off the body; it grows "
+                          "from the next solve" for k in held)
+            return replace(trial, events=trial.events + notes, held=tuple(held))
+    return adv
+
+
+def _extend(scene, moves: dict, snap: float):
+    """:func:`advance` without holding tips: the Advance and, per tip that arrived,
+    ``(s / da, what it reached)`` (dict), and whether the cracks cut a piece off."""
+    arrival = {}
     bnd = scene.domain.boundary_segments()
     cracks = list(scene.cracks)
     events, joined = [], []
@@ -108,7 +150,7 @@ def advance(scene, moves: dict, snap: float = 0.5) -> Advance:
                     return Advance(None, tuple(events), tuple(joined),
                                    f"tip {tip.id} runs into its own crack at "
                                    f"{np.round(hit, 12).tolist()}: a crack closing on itself is "
-                                   "not supported")
+                                   "not supported"), arrival, False
                 s_end, onto = s_c, True
             elif s_b <= reach and s_b < first:
                 s_end, onto = s_b, False
@@ -132,11 +174,13 @@ def advance(scene, moves: dict, snap: float = 0.5) -> Advance:
             events.append(f"tip {tip.id} {where} at {np.round(v, 12).tolist()} (after "
                           f"{s_end:.6g}); it is {'a junction' if onto else 'a mouth'} now")
             joined.append(tip.id)
+            arrival[tip.id] = (float(s_end / da), (f"crack {cracks[j].name!r}" if onto else
+                                                   "the boundary") + f" at {np.round(v, 12).tolist()}")
         cracks[k] = new
     cut = split_by_cracks(cracks, scene.domain)
     if cut is not None:
         return Advance(None, tuple(events), tuple(joined),
                        f"the cracks {', '.join(repr(n) for n in cut)} cut the body into "
                        f"separate pieces ({'; '.join(events)}): a piece cut off moves as a "
-                       "rigid body, the loop ends before it")
-    return Advance(scene.with_cracks(cracks), tuple(events), tuple(joined))
+                       "rigid body, the loop ends before it"), arrival, True
+    return Advance(scene.with_cracks(cracks), tuple(events), tuple(joined)), arrival, False

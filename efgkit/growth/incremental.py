@@ -16,7 +16,10 @@ where ``R`` holds every point whose row can change:
   within ``rho`` of a changed segment (a new segment, or an old or new tip; ``rho =
   kappa h`` for transparency, whose opacity depends on the arc from the tip, else 0:
   a crack rule changes a pair (x, x_I) only when the new segment cuts it or the tip it
-  is diffracted around moved, both inside the support), and every enriched node (PU
+  is diffracted around moved, both inside the support; an end that stopped on the
+  boundary or on another crack's face, a mouth or a junction, is prolonged by
+  ``MOUTH_REACH d_mI``, so the reach is ``d_mI (1 + MOUTH_REACH) + rho``), and every
+  enriched node (PU
   nodes, nodes with a non-zero ramped extrinsic field) of the old or new enrichment;
 * points inside an enrichment disc of an old or new tip (intrinsic ramp, ramped
   extrinsic fields): r < r2 of the tip, and with a kinked crack within L + r2 of the
@@ -42,6 +45,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.sparse import csr_array
 
+from ..approx.crack_rules import MOUTH_REACH
 from ..approx.shape import Extra, Shape
 from ..methods.boundary import loads
 from ..methods.discretize import Discretization, approximation, discretize, shadow_rays
@@ -108,9 +112,13 @@ def _why_not(prev: Assembled, scene: Scene, m: EFG) -> str | None:
     if m.enrichment == "extrinsic_mls" and m.enrich_radius is None:
         return ("unramped (global) extrinsic Williams fields change everywhere when a tip moves: "
                 "give enrich_radius")
-    if {k: v for k, v in vars(m).items() if k != "coordinates"} != \
-            {k: v for k, v in vars(pm).items() if k != "coordinates"}:
-        return "the method changed"
+    changed = [k for k, v in vars(m).items() if k != "coordinates" and v != getattr(pm, k)]
+    if changed:
+        why = "; ".join(f"{k}: {getattr(pm, k)!r} -> {getattr(m, k)!r}" for k in changed)
+        if "enrichment" in changed:  # EFG.for_scene: PU for several tips, extrinsic for one
+            why += (" (the automatic enrichment follows the number of tips: give enrichment "
+                    "explicitly for the incremental path)")
+        return f"the method changed ({why})"
     return None
 
 
@@ -353,7 +361,9 @@ def update(previous: Assembled | None, scene: Scene, method: EFG) -> Assembled:
     seg = _changed_segments(old.scene, scene)
     rho = m.kappa * m.spacing if m.crack_rule == "transparency" else 0.0  # s_c < kappa h
     discs = _enrichment_discs((old.approx.enrichment, approx.enrichment))
-    affected = _near(nodes.x, seg, nodes.radius + rho) | _in_discs(nodes.x, discs)
+    # a crack end that is not a tip (a mouth, a junction) reaches MOUTH_REACH d_mI further
+    affected = _near(nodes.x, seg, nodes.radius * (1 + MOUTH_REACH) + rho) | \
+        _in_discs(nodes.x, discs)
     for enr in (old.approx.enrichment, approx.enrichment):
         if enr is not None and enr.pu_nodes is not None:
             affected[enr.pu_nodes] = True

@@ -237,7 +237,9 @@ def grow(scene: Scene, method, settings: Growth, start: GrowthState | None = Non
     running into itself, every tip joined to the boundary or to another crack. A tip that
     joins the boundary or another crack stops alone (an event of the next step; its
     increment is cut where it meets the boundary or the other crack's face); the others
-    grow on.
+    grow on. Of tips that arrive in the same increment and together would cut a piece off,
+    the later arrivals (by ``s / da``) are held: they do not grow in that increment (an
+    event; not in ``da``) and the next step solves with the earlier arrival joined.
 
     Examples
     --------
@@ -299,6 +301,7 @@ def grow(scene: Scene, method, settings: Growth, start: GrowthState | None = Non
             adv = advance(scene, {i: (d, float(h.angle[ids.index(i)])) for i, d in moves.items()},
                           settings.snap)
             stop = adv.stop
+            moves = {k: v for k, v in moves.items() if k not in adv.held}  # not grown
             if adv.scene is not None and not adv.scene.tips:
                 stop = "every tip has joined the boundary or another crack"
             nxt = adv
