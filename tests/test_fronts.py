@@ -48,12 +48,15 @@ def test_onset_times_threshold_crossing():
     assert np.allclose(to, np.array([4.0, 9.0]) + 2.0 - math.sqrt(math.log(10.0)), atol=1e-3)
 
 
-def test_lobe_signs_skip_a_lobe_cut_by_the_gate():
-    f = -pulses([2.0]) + 3.0 * pulses([6.0])  # a trough, then a larger crest the gate cuts
-    assert lobe_signs(T, f, 1.0, 7.5).tolist() == [-1.0]  # crest at 8: beyond the gate
-    assert lobe_signs(T, f, 1.0, 10.0).tolist() == [1.0]
+def test_lobe_signs_leading_lobe_and_a_lobe_cut_by_the_gate():
+    f = -pulses([2.0]) + 3.0 * pulses([6.0])  # a trough at 4, a crest 3 times as large at 8
+    assert lobe_signs(T, f, 1.0, 7.5).tolist() == [-1.0]  # the crest is cut by the gate
+    assert lobe_signs(T, f, 1.0, 10.0).tolist() == [1.0]  # the trough is under half the crest
+    assert lobe_signs(T, f, 1.0, 10.0, lead=0.3).tolist() == [-1.0]  # ... but over 0.3 of it
     with pytest.raises(ValueError, match="no lobe of either sign"):
         lobe_signs(T, T[:, None] + 0.0, 1.0, 10.0)  # monotone
+    with pytest.raises(ValueError, match=r"lead must lie in \(0, 1\]"):
+        lobe_signs(T, f, 1.0, 10.0, lead=0.0)
 
 
 def test_plane_front_recovers_speed_angle_and_trace():

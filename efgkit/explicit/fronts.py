@@ -143,19 +143,36 @@ def _lobes(t, f, inside, strict: bool = True) -> tuple[np.ndarray, np.ndarray]:
     return k, ~bad
 
 
-def lobe_signs(t, f, lo, hi) -> np.ndarray:
-    """(n,) sign (+1 or -1) of the largest lobe of ``|f|`` inside each probe's gate (as in
-    :func:`rise_times`): which sign to pass it."""
+def lobe_signs(t, f, lo, hi, lead: float = 0.5) -> np.ndarray:
+    """(n,) sign (+1 or -1) of the leading lobe in each probe's gate: the first lobe (local
+    maximum of ``|f|``, not on the gate's last sample) at least ``lead`` times as large as
+    the largest such lobe. Which sign to pass :func:`rise_times` for the front's lobe.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> t = np.linspace(0.0, 10.0, 201)
+    >>> f = -0.8 * np.exp(-(t - 3.0) ** 2) + np.exp(-(t - 5.0) ** 2)
+    >>> lobe_signs(t, f[:, None], 0.0, 10.0).tolist()
+    [-1.0]
+    """
+    if not 0.0 < lead <= 1.0:
+        raise ValueError(f"lead must lie in (0, 1], got {lead!r}: 0.5 takes the first lobe "
+                         "at least half the largest")
     t, f, inside = _histories(t, f, lo, hi)
-    (kp, hp), (kn, hn) = _lobes(t, f, inside, False), _lobes(t, -f, inside, False)
-    cols = np.arange(f.shape[1])
-    top = np.where(hp, f[kp, cols], -np.inf)
-    bottom = np.where(hn, -f[kn, cols], -np.inf)
-    if np.any(~hp & ~hn):
-        j = int(np.flatnonzero(~hp & ~hn)[0])
+    a = np.abs(f)
+    k_top, found = _lobes(t, a, inside, False)
+    if np.any(~found):
+        j = int(np.flatnonzero(~found)[0])
         raise ValueError(f"probe {j} has no lobe of either sign within its gate: move or "
                          "widen the gate")
-    return np.where(top >= bottom, 1.0, -1.0)
+    cols = np.arange(f.shape[1])
+    up = np.zeros(f.shape, bool)
+    up[1:-1] = (a[1:-1] >= a[:-2]) & (a[1:-1] >= a[2:])
+    last = inside & ~np.vstack([inside[1:], np.zeros((1, f.shape[1]), bool)])
+    big = inside & up & ~last & (a >= lead * a[k_top, cols])
+    k = np.argmax(big, axis=0)
+    return np.where(f[k, cols] >= 0, 1.0, -1.0)
 
 
 def rise_times(t, f, lo, hi, frac: float = 0.5) -> np.ndarray:
