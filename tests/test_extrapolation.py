@@ -5,8 +5,14 @@ import math
 import numpy as np
 import pytest
 
-from efgkit.fracture.extrapolation import (cod_sif, fitted_near_tip_sif, k_from_cod, k_from_stress,
-                                          near_tip_sif, ray_points)
+from efgkit.fracture.extrapolation import (
+    cod_sif,
+    fitted_near_tip_sif,
+    k_from_cod,
+    k_from_stress,
+    near_tip_sif,
+    ray_points,
+)
 from efgkit.problem.crack import Tip
 from efgkit.problem.exact.griffith import griffith_field
 from efgkit.problem.exact.williams import williams_displacement, williams_stress
