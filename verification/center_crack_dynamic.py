@@ -357,7 +357,9 @@ def main(quick: bool = False, out_dir=None) -> dict:
                       r["early_time_error"]["J"], "<=", 0.12 if quick else 0.05)  # quick: 7.4 %
     m["settings"] = {"plate_mm": [2 * HALF_W, 2 * HALF_H], "a0_mm": A0, "load_MPa": LOAD,
                      "rho": RHO, "units": "mm, N, MPa, tonne/mm^3, s", "radii_mm": radii,
-                     "d_max": 2.5, "grids": {g: list(v[:2]) + [v[2] / US] for g, v in grids.items()},
+                     "d_max": 2.5, "enrichment_mass": ENRICHMENT_MASS,
+                     "mass_iterations": MASS_ITERATIONS,
+                     "grids": {g: list(v[:2]) + [v[2] / US] for g, v in grids.items()},
                      "duration_us": duration / US, "output_us": every / US,
                      "c_d_mode_I": CASES["mode_I"][0].c_dilatational,
                      "c_s_mode_II": CASES["mode_II"][0].c_shear}
@@ -390,7 +392,10 @@ def markdown(r: dict) -> list[str]:
                     f"{v['path_dependence']:.2%} ({v['path_dependence_lumped']:.2%}) | {early} |")
     return [f"Plate {s['plate_mm'][0]:g} x {s['plate_mm'][1]:g} mm, a0 = {s['a0_mm']:g} mm, step "
             f"load {s['load_MPa']} MPa on top and bottom; units {s['units']}; d_max "
-            f"{s['d_max']}, no enrichment or zones; J' discs R = {s['radii_mm']} mm; histories "
+            f"{s['d_max']}, no zones; rows efg: no enrichment, rows efg_pu: PU crack-tip "
+            "enrichment (nodes within 2 spacings of a tip) with the abs-row-sum enrichment mass "
+            "(the plain critical step) and 16 Jacobi steps of the acceleration recovery (4 for "
+            f"efg); J' discs R = {s['radii_mm']} mm; histories "
             f"to {s['duration_us']:g} us. First felt: the first output where the normalised K "
             "exceeds 0.01 (the meshless supports and the explicit step let a small precursor "
             "run ahead of the front, so it comes before the travel time, 20 mm / c_d in mode I "
