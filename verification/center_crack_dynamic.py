@@ -346,8 +346,9 @@ def main(quick: bool = False, out_dir=None) -> dict:
                       max(r["decomposed_vs_interaction"].values()), "<=", 0.05)  # 3.9 %, 1.6 %
     finest = list(grids)[-1]
     for key, v in m["path_dependence"].items():
-        # plain EFG: the finest grid; PU: mode II on the seed's grid (mode I: not reached)
-        if finest in key or quick or key == "mode_II/efg_pu/105x42/J1":
+        # plain EFG: the finest grid (seed's grid: 2.07 %, 1.98 %); PU: the seed's grid
+        # (measured 0.89 % and 0.69 %)
+        if finest in key or quick or "/efg_pu/" in key:
             # quick: 2 mm spacing, radii 4-8 mm; measured 2.0 % (lumped acceleration: 4.8 %)
             rep.check(f"{key}: path dependence of J' over the radii", v, "<=",
                       0.06 if quick else TARGET)
