@@ -51,6 +51,9 @@ def test_default_hook_gives_every_estimate_side_by_side(run):
     assert np.abs(s["interaction"][:, 0, 1]).max() < 1e-9 * np.abs(s["interaction"][:, 0, 0]).max()
     # near-tip stresses at 90 degrees: the mode II part of the rays +-90 degrees is zero
     assert np.abs(s["stress_90"][:, 0, 1]).max() < 1e-9 * np.abs(s["stress_90"][:, 0, 0]).max()
+    # and on theta = 0 (the symmetry line) sigma_12 vanishes: no K_II in either estimate
+    for key in ("stress_0", "stress_0_fit"):
+        assert np.abs(s[key][:, 0, 1]).max() < 1e-9 * np.abs(s[key][:, 0, 0]).max()
     # J'_1 = (kappa + 1) / (8 mu) K_I^2 at V = 0 (seed 002 Eqs. 33, 35)
     m = MAT
     assert np.allclose(s["J_prime"][:, 0, 0], (m.kappa + 1) / (8 * m.mu) * s["J"][:, 0, 0] ** 2,
