@@ -39,7 +39,9 @@ Checked over the second half of that window.
 
 Full mode also runs the seed's grid with PU crack-tip enrichment (``efg_pu``; nodes within
 two spacings of a tip, their enrichment unknowns lumped by the absolute row sum so the
-stable step stays that of the plain grid), records the static floor of the path
+stable step stays that of the plain grid, 16 Jacobi steps of the acceleration recovery,
+which then move the enrichment unknowns too: the settings that bring the path dependence
+within 1 % on that grid, docs/theory.md), records the static floor of the path
 dependence (:func:`static_path_dependence`, plain and PU) and compares the near-tip
 estimates with ``K`` from ``J'`` (``near_tip_vs_J``): the seed's mean of the two points
 nearest the tip (``stress_0``) and the line fitted on ``r = h..4h`` and extrapolated to the
