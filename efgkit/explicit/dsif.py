@@ -319,7 +319,8 @@ class DynamicDSIF:
         loaded faces: only to show what the terms contribute (``verification/freund.py``).
     mass_iterations : int
         Jacobi steps of the acceleration recovery of the inertia term (module docstring;
-        default 4; 0: the driver's lumped-mass acceleration). EFG only.
+        default 4; 0: the driver's lumped-mass acceleration; 16 with PU enrichment and
+        ``enrichment_mass="abs_row_sum"`` on coarse grids). EFG only.
     decomposition : bool
         Also give ``"J_decomposed"``: K_I, K_II from ``J'_1`` of the symmetric and
         antisymmetric parts of the field about the crack line (no ``J'_2``;
