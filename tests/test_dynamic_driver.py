@@ -51,6 +51,9 @@ def test_default_hook_gives_every_estimate_side_by_side(run):
     assert np.abs(s["interaction"][:, 0, 1]).max() < 1e-9 * np.abs(s["interaction"][:, 0, 0]).max()
     # near-tip stresses at 90 degrees: the mode II part of the rays +-90 degrees is zero
     assert np.abs(s["stress_90"][:, 0, 1]).max() < 1e-9 * np.abs(s["stress_90"][:, 0, 0]).max()
+    # and on theta = 0 (the symmetry line) sigma_12 vanishes: no K_II in either estimate
+    for key in ("stress_0", "stress_0_fit"):
+        assert np.abs(s[key][:, 0, 1]).max() < 1e-9 * np.abs(s[key][:, 0, 0]).max()
     # J'_1 = (kappa + 1) / (8 mu) K_I^2 at V = 0 (seed 002 Eqs. 33, 35)
     m = MAT
     assert np.allclose(s["J_prime"][:, 0, 0], (m.kappa + 1) / (8 * m.mu) * s["J"][:, 0, 0] ** 2,
@@ -144,6 +147,42 @@ def test_recovery_near_the_tips_is_exact():
     assert ops.recovered_acceleration(a, 0) is a
     assert np.abs(got - want).max() > 1e-3 * np.abs(want).max()  # far away: M_C left out
     assert np.allclose(got[seen], want[seen], rtol=0, atol=1e-12 * np.abs(want).max())
+
+
+@pytest.mark.parametrize("mass, moved", [("diagonal", False), ("abs_row_sum", True)])
+def test_recovery_moves_enrichment_unknowns_only_under_a_bounding_mass(mass, moved):
+    # PU enrichment: with the abs-row-sum lumping (m_i = sum_j |M_C,ij|, Gershgorin: the
+    # Jacobi step contracts) the enrichment unknowns take the step; with the diagonal of
+    # their consistent block (eigenvalues of M_L^-1 M_C up to 9.5) they keep a^n
+    from efgkit.explicit import dynamics
+    from efgkit.explicit.dsif import TipOperators
+    from efgkit.system.mass import consistent_mass
+
+    scene = Scene(Domain.rectangle(0, 0, 2, 1), MAT, duration=0.1,
+                  cracks=(Crack([[0.0, 0.5], [1.0, 0.5]], tips=(False, True)),),
+                  tractions=(Traction("top", (0.0, 1.0), history=Heaviside()),))
+    dyn = dynamics(scene, EFG(spacing=0.25, enrichment="pu", zones=()), enrichment_mass=mass)
+    ops = TipOperators(dyn, (0.3, 0.375, 0.45))
+    a = np.random.default_rng(1).standard_normal(dyn.n_dofs)
+    got = ops.recovered_acceleration(a, 1)
+    M = consistent_mass(dyn.disc.shape, dyn.disc.points.w, MAT.rho)
+    want = a + dyn.minv * (dyn.m * a - M @ a)
+    n = 2 * dyn.disc.nodes.n
+    assert dyn.n_dofs > n  # enriched
+    assert np.allclose(got[:n], want[:n], rtol=0, atol=1e-12 * np.abs(want).max())
+    assert np.array_equal(got[n:], a[n:]) != moved
+    if moved:
+        assert np.allclose(got[n:], want[n:], rtol=0, atol=1e-12 * np.abs(want).max())
+
+
+def test_near_tip_rays_refuse_bad_lengths():
+    from efgkit.explicit.near_tip import NearTipRays
+    from efgkit.problem.crack import Tip
+
+    tip = Tip(np.zeros(2), 0.0, "c", 1)
+    for h, free in ((0.0, 1.0), (0.1, np.nan)):
+        with pytest.raises(ValueError, match="h and free must be finite and > 0"):
+            NearTipRays(None, tip, h, free, MAT.D)
 
 
 @pytest.mark.parametrize("kw, err, match", [

@@ -230,8 +230,8 @@ def test_dsif_hook_is_called_at_every_output_instant():
     assert [s[0] for s in seen] == list(sol.t) and len(seen) == 5
     assert sol.history["sifs"]["mine"].shape == (5, 1, 2)
     default = integrate(scene, EFG(spacing=0.25), Stepping(output_interval=1e-9), steps=2)
-    assert set(default.history["sifs"]) == {"J", "interaction", "stress_0", "stress_90", "J_prime",
-                                            "spread"}
+    assert set(default.history["sifs"]) == {"J", "interaction", "stress_0", "stress_0_fit", "stress_90",
+                                            "J_prime", "spread"}
     assert default.history["sifs"]["interaction"].shape == (3, 1, 2)
 
 

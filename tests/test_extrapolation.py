@@ -5,7 +5,14 @@ import math
 import numpy as np
 import pytest
 
-from efgkit.fracture.extrapolation import cod_sif, k_from_cod, k_from_stress, near_tip_sif, ray_points
+from efgkit.fracture.extrapolation import (
+    cod_sif,
+    fitted_near_tip_sif,
+    k_from_cod,
+    k_from_stress,
+    near_tip_sif,
+    ray_points,
+)
 from efgkit.problem.crack import Tip
 from efgkit.problem.exact.griffith import griffith_field
 from efgkit.problem.exact.williams import williams_displacement, williams_stress
@@ -91,6 +98,24 @@ def test_griffith_near_tip_estimate_converges(theta, rate):
     assert err[-1] < 5e-3  # measured 2.8e-3 (theta = 0), 2.5e-6 (90 deg) at h = a / 400
 
 
+def test_fitted_near_tip_estimate_griffith():
+    """Remote tension of a Griffith crack (Westergaard, K_I = p sqrt(pi a)) on theta = 0:
+    the line K + b r through r = h..4h removes the O(r) error the mean of the two nearest
+    points keeps; exact for the pure Williams field (the T-stress does not enter)."""
+    r = np.array([0.1, 0.2, 0.3])
+    assert fitted_near_tip_sif(TIP, r, williams_global) == pytest.approx((KI, KII), rel=1e-12)
+    a, p = 1.0, 2.0
+    K = p * math.sqrt(math.pi * a)
+    tip = Tip(np.array([a, 0.0]), 0.0, "g", 1)
+    st = lambda x: griffith_field(x, a, p, M.mu, M.kappa, loading="remote")[2]  # noqa: E731
+    h = 0.01
+    nearest = near_tip_sif(tip, h * np.arange(1, 7), st)[0] / K - 1
+    fit = fitted_near_tip_sif(tip, h * np.arange(1.0, 4.01, 0.25), st)[0] / K - 1
+    # closed form of K(r) / K - 1 at small r: 3 r / 4 a, 1.1e-2 at the mean's r = 1.5 h
+    assert nearest == pytest.approx(0.75 * 1.5 * h / a, rel=0.05)
+    assert abs(fit) < 2.5e-4, (nearest, fit)  # the O(r^2) remainder: measured 8.2e-5
+
+
 def test_cod_exact_for_williams():
     r = np.array([0.05, 0.1, 0.2])
     KIr, KIIr = k_from_cod(TIP, r, williams_face(1), williams_face(-1), M)
@@ -138,6 +163,10 @@ def test_bad_input():
         ray_points((0.0, 0.0), r)
     with pytest.raises(ValueError, match="degree-2 fit needs at least 3 distinct"):
         cod_sif(TIP, r, williams_face(1), williams_face(-1), M, degree=2)
+    with pytest.raises(ValueError, match="degree-2 fit needs at least 3 distinct distances"):
+        fitted_near_tip_sif(TIP, r, williams_global, degree=2)
+    with pytest.raises(ValueError, match="degree must be an integer >= 0"):
+        fitted_near_tip_sif(TIP, r, williams_global, degree=-1)
     with pytest.raises(ValueError, match=r"upper must have shape \(2, 2\)"):
         k_from_cod(TIP, r, np.zeros((2, 3)), np.zeros((2, 2)), M)
     with pytest.raises(TypeError, match="material must be an Elastic"):

@@ -204,7 +204,8 @@ def markdown(r: dict) -> list[str]:
             "", *terms, "",
             "Enrichment (its unknowns take the diagonal of their consistent mass): the "
             "enriched tips lower the critical step; the J' hook corrects the nodal "
-            "accelerations only (efgkit.explicit.dsif), the enrichment unknowns keep the "
+            "accelerations (efgkit.explicit.dsif), the enrichment unknowns keep the "
             "driver's. Rows '/abs_row_sum': the enrichment unknowns take the row sum of the "
             "absolute values of their consistent mass (efgkit.system.mass), which keeps the "
-            "unenriched critical step.", "", *enr]
+            "unenriched critical step and lets the hook correct their accelerations too.",
+            "", *enr]

@@ -13,9 +13,9 @@ crack, side by side (seed 002 Eqs. 31-38, seed 000 Eqs. 5.2-5.8):
   ``V = 0`` the kinetic terms cancel, so no velocity is needed) through the velocity
   functions at ``V = 0`` (:func:`~efgkit.fracture.dynamic_tip.dynamic_tip_result`);
 * ``"interaction"``: the interaction integral with the inertia term;
-* ``"stress_0"``, ``"stress_90"``: the near-tip stresses on theta = 0 and 90 degrees (at
-  90 degrees each mode from its symmetry part of the rays +-90 degrees,
-  :func:`~efgkit.fracture.extrapolation.k_from_symmetric_rays`);
+* ``"stress_0"``, ``"stress_0_fit"``, ``"stress_90"``: the near-tip stresses on theta = 0
+  (the seed's mean of the two nearest points, and a fit extrapolated to the tip) and 90
+  degrees (:mod:`efgkit.explicit.near_tip`);
 * ``"J_prime"``: ``(J'_1, J'_2)`` themselves (tip frame, mean over the domains);
 * ``"spread"``: ``(spread_J, spread)``, the domain spreads of the ``J'`` and the
   interaction ``K`` (:class:`~efgkit.fracture.dynamic_tip.DynamicTipResult`).
@@ -46,14 +46,18 @@ path dependence of ``J'_1`` falls from 2.2 % (lumped) to 0.5 % (mode I) and from
 0.9 % (mode II, whose static path dependence on that grid is 0.85 %) with 4 steps. The
 steps are exact on the points within ``R_max + (2 k + 2) r_support`` of the tips, so
 ``M_C`` is assembled there only (everywhere with enrichment, whose unknowns couple the
-body). The steps correct the nodal unknowns only: the row-sum masses bound the eigenvalues
-of their block by about 1, while the enrichment unknowns' lumped mass is the diagonal of
-their consistent block (:mod:`efgkit.system.mass`): the largest eigenvalue of
-``M_L^-1 M_C`` is 9.5 with PU enrichment and 1.6 with extrinsic MLS enrichment
-(``verification/freund.py`` scene, spacing 0.02; 1.0 on the nodal block), and a Jacobi step
-diverges above 2 (with PU, ``K`` came out 20 times too large), so they keep ``a^n``. With
-them the enriched runs of ``verification/freund.py`` (spacing 0.01) come within 0.44 %
-(extrinsic MLS) and 4.4 % (PU) of Freund's K_I, from 9.3 % and 13.6 % with ``a^n``. MLPG
+body). The row-sum masses bound the eigenvalues of the nodal block by about 1. An
+enrichment unknown takes the steps only where its lumped mass bounds its absolute row sum
+of ``M_C`` (``enrichment_mass="abs_row_sum"``, :mod:`efgkit.system.mass`: by Gershgorin the
+step then contracts); with the default diagonal of their consistent block the largest
+eigenvalue of ``M_L^-1 M_C`` is 9.5 (PU) and 1.6 (extrinsic MLS; ``verification/freund.py``
+scene, spacing 0.02), a Jacobi step diverges above 2 (with PU, ``K`` came out 20 times too
+large), and they keep ``a^n``. With the abs-row-sum mass and 16 steps, PU enrichment brings
+the centre-cracked plate on the seed's 1 mm grid to 0.89 % (mode I) and 0.69 % (mode II)
+path dependence, from 2.07 % and 1.98 % without enrichment (4 steps; 16 do not help there,
+2.10 %). With the diagonal mass the enriched runs of ``verification/freund.py`` (spacing
+0.01) come within 0.44 % (extrinsic MLS) and 4.4 % (PU) of Freund's K_I, from 9.3 % and
+13.6 % with ``a^n``. MLPG
 keeps ``a^n``: its consistent mass is the Petrov-Galerkin ``int v_I psi_J`` of the
 sub-domains, not assembled.
 
@@ -74,16 +78,16 @@ from scipy.sparse import csr_array, vstack
 
 from ..fracture.decomposition import decomposed_tip_result, mirror_points
 from ..fracture.dynamic_tip import dynamic_tip_result
-from ..fracture.extrapolation import k_from_symmetric_rays, near_tip_sif, ray_points
 from ..fracture.integrals import FaceLoad
 from ..fracture.sif import face_loads, tip_limits, tip_radii, tip_result
 from ..problem.material import strain_from_gradient
 from ..problem.scene import evaluate_vector
 from ..system.mass import consistent_mass
+from .near_tip import NEAR_TIP_ESTIMATES, NearTipRays
 
 __all__ = ["DYNAMIC_ESTIMATES", "DynamicDSIF", "TipOperators", "dynamic_dsif", "quasi_static_dsif"]
 
-DYNAMIC_ESTIMATES = ("J", "interaction", "stress_0", "stress_90", "J_prime", "spread")
+DYNAMIC_ESTIMATES = ("J", "interaction", *NEAR_TIP_ESTIMATES, "J_prime", "spread")
 
 _CACHE: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
@@ -119,9 +123,7 @@ class TipOperators:
             nodal = disc.post_shape  # rows of the domain points: products restricted to ``sel``
             ops = [csr_array(g[sel]) for g in nodal.grad_operators()]
             vals = [csr_array(g[sel]) for g in nodal.u_operators()]
-            # 1-6 spacings, closer where the free disc about the tip is smaller than 6.7 h
-            r = min(h, 0.9 * min(tip_limits(scene, tip).values()) / 6) * np.arange(1.0, 7.0)
-            rays = {th: _grad_op(disc, ray_points(tip, r, th)) for th in (0.0, np.pi / 2, -np.pi / 2)}
+            rays = NearTipRays(disc, tip, h, min(tip_limits(scene, tip).values()), self.D)
             faces = {}
 
             def gradient(xs, side, faces=faces):  # records the face operators at the first call
@@ -137,7 +139,7 @@ class TipOperators:
             f0 = replace(f0, traction=crack.pressure * f0.traction)
             self.tips.append(dict(tip=tip, h=h, rs=rs, x=x[sel], w=w[sel],
                                   op=csr_array(vstack(ops, format="csr")),
-                                  val=csr_array(vstack(vals, format="csr")), r=r, rays=rays,
+                                  val=csr_array(vstack(vals, format="csr")), rays=rays,
                                   faces=faces, face0=f0, loaded=crack.pressure != 0.0))
         self.scene = scene
         self.dyn = dyn
@@ -149,7 +151,8 @@ class TipOperators:
     def recovered_acceleration(self, a: np.ndarray, iterations: int) -> np.ndarray:
         """``iterations`` Jacobi steps ``a <- a + M_L^-1 (M_L a^n - M_C a)`` from the driver's
         acceleration ``a^n (n_dofs,)`` towards the consistent one (module docstring), then
-        the constraint projection of the run, if any; on the nodal unknowns only.
+        the constraint projection of the run, if any; enrichment unknowns only where their
+        lumped mass bounds their absolute row sum of ``M_C`` (module docstring).
         MLPG and ``iterations = 0``: ``a^n``."""
         dyn, disc = self.dyn, self.dyn.disc
         if iterations == 0 or disc.test is not None:
@@ -164,12 +167,13 @@ class TipOperators:
                 for d in self.tips:
                     near |= np.hypot(*(x - d["tip"].x).T) <= max(d["rs"]) + reach
                 rows = np.flatnonzero(near)
-            M = self._mass[iterations] = consistent_mass(disc.shape, disc.points.w,
-                                                         self.scene.material.rho, rows)
+            M = consistent_mass(disc.shape, disc.points.w, self.scene.material.rho, rows)
+            step, n = dyn.minv.copy(), 2 * self.n_nodes  # enrichment: where m >= sum_j |M_ij|
+            step[n:][dyn.m[n:] < (1 - 1e-9) * abs(M[n:]).sum(axis=1)] = 0.0  # (module docstring)
+            M = self._mass[iterations] = (M, step)
+        M, step = M
         r = dyn.m * a
         out = a.copy()
-        step = dyn.minv.copy()
-        step[2 * self.n_nodes:] = 0.0  # enrichment unknowns keep a^n (module docstring)
         for _ in range(iterations):
             out += step * (r - M @ out)
         P = dyn.projection
@@ -197,20 +201,11 @@ class TipOperators:
         grads = np.concatenate([_grad(d["faces"][s], u) for s in (1.0, -1.0)])
         return replace(d["face0"], grad_u=grads)
 
-    def _near_tip(self, d: dict, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """theta = 0: seed 000 Eq. 5.2 (and its mode II row); theta = 90 deg: each mode from
-        its symmetry part of the rays +-90 deg (:func:`k_from_symmetric_rays`; Eq. 5.3 is
-        its sigma_22 row). Both: mean of the two points nearest the tip (seed 000 Fig. 8)."""
-        s = {th: strain_from_gradient(_grad(d["rays"][th], u)) @ self.D.T for th in d["rays"]}
-        KI, KII = k_from_symmetric_rays(d["tip"], d["r"], s[np.pi / 2], s[-np.pi / 2])
-        return (np.array(near_tip_sif(d["tip"], d["r"], s[0.0], 0.0)),
-                np.array([KI[:2].mean(), KII[:2].mean()]))
-
     def estimates(self, u: np.ndarray) -> dict:
-        """``{"interaction", "stress_0", "stress_90"}: (n_tips, 2)`` for coefficients ``u``
-        (static integrals, no inertia)."""
+        """``{"interaction", "stress_0", "stress_0_fit", "stress_90"}: (n_tips, 2)`` for
+        coefficients ``u`` (static integrals, no inertia)."""
         n = len(self.tips)
-        out = {k: np.zeros((n, 2)) for k in ("interaction", "stress_0", "stress_90")}
+        out = {k: np.zeros((n, 2)) for k in ("interaction", *NEAR_TIP_ESTIMATES)}
         for k, d in enumerate(self.tips):
             grad = _grad(d["op"], u)
             stress = strain_from_gradient(grad) @ self.D.T
@@ -221,7 +216,8 @@ class TipOperators:
             res = tip_result(self.scene, d["tip"], d["x"], d["w"], stress, grad, d["rs"],
                              faces=self._faces(d, u) if d["loaded"] else None, enriched=kk)
             out["interaction"][k] = (res.KI, res.KII)
-            out["stress_0"][k], out["stress_90"][k] = self._near_tip(d, u)
+            for key, v in d["rays"].estimates(u).items():
+                out[key][k] = v
         return out
 
     def dynamic(self, u: np.ndarray, a: np.ndarray, t: float, q="wendland_c2",
@@ -268,7 +264,8 @@ class TipOperators:
             out["spread"][k] = (res.spread_J, res.spread)
             if domains:
                 out.setdefault("J_prime_domains", []).append([(dd.J1, dd.J2) for dd in res.domains])
-            out["stress_0"][k], out["stress_90"][k] = self._near_tip(d, u)
+            for key, v in d["rays"].estimates(u).items():
+                out[key][k] = v
             if decomposition:
                 gop, vop = self._mirror(d)
                 am = (vop @ a).reshape(2, m).T if inertia else np.zeros((m, 2))
@@ -322,7 +319,8 @@ class DynamicDSIF:
         loaded faces: only to show what the terms contribute (``verification/freund.py``).
     mass_iterations : int
         Jacobi steps of the acceleration recovery of the inertia term (module docstring;
-        default 4; 0: the driver's lumped-mass acceleration). EFG only.
+        default 4; 0: the driver's lumped-mass acceleration; 16 with PU enrichment and
+        ``enrichment_mass="abs_row_sum"`` on coarse grids). EFG only.
     decomposition : bool
         Also give ``"J_decomposed"``: K_I, K_II from ``J'_1`` of the symmetric and
         antisymmetric parts of the field about the crack line (no ``J'_2``;
@@ -387,9 +385,9 @@ def quasi_static_dsif(dyn, u: np.ndarray, v: np.ndarray, a: np.ndarray, t: float
     * ``"interaction"``: the static interaction integral over the default domains of
       :meth:`Solution.sifs` (10, 12.5, 15 spacings, :func:`efgkit.fracture.sif.tip_result`,
       without the error estimate); no inertia term;
-    * ``"stress_0"``, ``"stress_90"``: from the near-tip stresses on theta = 0 and 90
-      degrees (the rays +-90 degrees, as :data:`dynamic_dsif`), mean of the two points
-      nearest the tip (seed 000 Eqs. 5.2-5.5).
+    * ``"stress_0"``, ``"stress_0_fit"``, ``"stress_90"``: from the near-tip stresses on
+      theta = 0 and 90 degrees, as :data:`dynamic_dsif` (:mod:`efgkit.explicit.near_tip`;
+      seed 000 Eqs. 5.2-5.5).
 
     ``v`` and ``a`` are unused (:data:`dynamic_dsif` uses ``a``). The domain-spread warnings
     of the static integral are silenced: they fire at every instant before the waves

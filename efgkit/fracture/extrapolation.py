@@ -52,8 +52,8 @@ from ..problem.exact.moving import moving_crack_fields
 from ..problem.frames import rotate_vectors, rotate_voigt
 from ..problem.material import Elastic, strain_from_gradient
 
-__all__ = ["cod_sif", "k_from_cod", "k_from_stress", "k_from_symmetric_rays", "near_tip_sif",
-           "ray_points"]
+__all__ = ["cod_sif", "fitted_near_tip_sif", "k_from_cod", "k_from_stress", "k_from_symmetric_rays",
+           "near_tip_sif", "ray_points"]
 
 
 def _radii(r) -> np.ndarray:
@@ -188,6 +188,42 @@ def near_tip_sif(tip: Tip, r, stress, theta: float = 0.0, n_average: int = 2,
     KI, KII = k_from_stress(tip, r, stress, theta, assume_mode_I, speed, material)
     near = np.argsort(r, kind="stable")[:n_average]
     return float(np.mean(KI[near])), float(np.mean(KII[near]))
+
+
+def fitted_near_tip_sif(tip: Tip, r, stress, theta: float = 0.0, degree: int = 1,
+                        speed: float = 0.0, material: Elastic | None = None) -> tuple[float, float]:
+    """``(K_I, K_II)`` extrapolated to the tip from :func:`k_from_stress` on the ray ``theta``.
+
+    The apparent values ``K(r) = sqrt(2 pi r) sigma`` (``theta = 0``: seed 000 Eq. 5.2 and
+    its mode II row) are the Williams series ``K + b r + ...`` (the ``r^(1/2)`` stress term
+    gives ``b r``; the T-stress does not enter ``sigma_22``, ``sigma_12``): a least-squares
+    polynomial of ``degree`` in ``r`` through them, evaluated at ``r = 0``, removes the
+    ``O(r)`` error that the mean of the nearest points (:func:`near_tip_sif`, seed 000)
+    keeps, as :func:`cod_sif` does for the opening. Under dynamic load the series holds its
+    static form up to the ``r^(1/2)`` term; inertia enters at ``r^(3/2)`` (``K''(t) r^2`` in
+    ``K(r)``), so the points must lie well inside the distance a wave runs while ``K``
+    changes (docs/theory.md). Needs at least ``degree + 1`` distinct distances; other
+    arguments as in :func:`k_from_stress`.
+
+    Examples
+    --------
+    >>> from efgkit.problem.exact.williams import williams_stress
+    >>> t = Tip(np.zeros(2), 0.0, "c", 1)
+    >>> r = np.array([0.1, 0.2, 0.3])
+    >>> s = williams_stress(r, 0.0, 2.0, 0.5) * (1 + 0.5 * r)[:, None]  # K(r) = K (1 + r / 2)
+    >>> [round(k, 12) for k in fitted_near_tip_sif(t, r, s)]
+    [2.0, 0.5]
+    """
+    r = _radii(r)
+    if isinstance(degree, bool) or not isinstance(degree, (int, np.integer)) or degree < 0:
+        raise ValueError(f"degree must be an integer >= 0, got {degree!r}")
+    if len(np.unique(r)) < degree + 1:
+        raise ValueError(f"a degree-{degree} fit needs at least {degree + 1} distinct distances, got "
+                         f"{len(np.unique(r))}: give more points on the ray or a lower degree")
+    KI, KII = k_from_stress(tip, r, stress, theta, speed=speed, material=material)
+    V = np.vander(r, degree + 1, increasing=True)
+    coef = np.linalg.lstsq(V, np.column_stack([KI, KII]), rcond=None)[0]
+    return float(coef[0, 0]), float(coef[0, 1])
 
 
 def k_from_symmetric_rays(tip: Tip, r, stress_plus, stress_minus,
