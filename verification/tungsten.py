@@ -68,7 +68,7 @@ import numpy as np
 from _report import Report
 
 from efgkit import EFG, Domain, Elastic, Linear, Scene, Support
-from efgkit.growth.cohesive import critical_opening
+from efgkit.growth.cohesive import criterion_energy
 from efgkit.growth.release import LineRelease, run_release
 from efgkit.problem.history import Stepping
 
@@ -108,20 +108,21 @@ def scene(rate: float, duration: float) -> Scene:
 
 
 def run(rate: float, f: float, duration: float, a0: float = A0, max_length: float = 5.0,
-        dt_factor: float = 1.0, cohesive: bool = False) -> dict:
+        dt_factor: float = 1.0, cohesive: bool = True, energy_factor: float = 1.0) -> dict:
     """One run: strain ``rate`` (1/s), spacings scaled by ``f``, initial half-length ``a0``;
     ``dt_factor`` scales the default step (``Stepping().safety`` times the critical step of
     the system without the line's constraint); ``cohesive``: the released support softens
-    over the critical opening the criterion implies (:mod:`efgkit.growth.cohesive`) instead
-    of vanishing at once (the seed's release)."""
+    and dissipates ``energy_factor`` times the fracture energy the criterion implies,
+    ``G_c = 2 pi h sigma_c^2 / E'`` (:mod:`efgkit.growth.cohesive`); False: it vanishes at
+    once (the seed's release)."""
     x = nodes(f)
     h = ZONES[0][2] * f
-    dc = float(critical_opening(SIGMA_C, h, MAT.E / (1 - MAT.nu**2))) if cohesive else 0.0
+    gc = energy_factor * float(criterion_energy(SIGMA_C, h, MAT.E / (1 - MAT.nu**2))) if cohesive else 0.0
     m = EFG(spacing=ZONES[0][2] * f, coordinates=x, d_max=2.0, zones=(), enrichment="none",
             quadrature="triangles", bc="lagrange")
     st = Stepping(output_interval=0.05 * US, safety=dt_factor * Stepping().safety)
     t0 = time.perf_counter()
-    r = run_release(scene(rate, duration), m, LineRelease(SIGMA_C, a0, opening=dc), st,
+    r = run_release(scene(rate, duration), m, LineRelease(SIGMA_C, a0, fracture_energy=gc), st,
                     max_length=max_length)
     sec = time.perf_counter() - t0
     t, a, v = r.t / US, r.length, r.speed / 1e3  # us, mm, m/s
@@ -129,7 +130,8 @@ def run(rate: float, f: float, duration: float, a0: float = A0, max_length: floa
     at2 = float(np.interp(2.0, a[grow], v[grow])) if grow.sum() >= 2 and a[grow].max() >= 2.0 else math.nan
     new = r.releases["new_crack"].astype(bool) if len(r.releases["t"]) else np.zeros(0, bool)
     return {"rate": rate, "f": f, "a0_mm": a0, "nodes": len(x), "h_line_mm": h,
-            "release": "cohesive" if cohesive else "at once", "opening_mm": dc,
+            "release": "cohesive" if cohesive else "at once", "G_c_N_mm": gc,
+            "dissipated_N": r.info["dissipated"],
             "t_us": t, "length_mm": a, "speed_m_s": v,
             "initiation_us": float(t[1]) if len(t) > 1 else math.nan,
             "speed_at_2mm_m_s": at2, "max_speed_m_s": float(np.nanmax(v)) if grow.any() else 0.0,
@@ -142,16 +144,18 @@ def run(rate: float, f: float, duration: float, a0: float = A0, max_length: floa
             "timings": r.timings}
 
 
-def three_cracks(rate: float, f: float, duration: float) -> dict:
+def three_cracks(rate: float, f: float, duration: float, cohesive: bool = True) -> dict:
     """Seed 000 Sect. 5.2.2: three 0.8 mm cracks on the crack line (centres 0 and +-XC),
     the quarter model holding the central crack's half (a0 = 0.4 mm) and one side crack.
-    Tip 1: the central crack's; tip 2: the side crack's inner tip; tip 3: its outer tip."""
+    Tip 1: the central crack's; tip 2: the side crack's inner tip; tip 3: its outer tip.
+    ``cohesive`` as :func:`run`."""
     x = nodes(f)
+    gc = float(criterion_energy(SIGMA_C, ZONES[0][2] * f, MAT.E / (1 - MAT.nu**2))) if cohesive else 0.0
     m = EFG(spacing=ZONES[0][2] * f, coordinates=x, d_max=2.0, zones=(), enrichment="none",
             quadrature="triangles", bc="lagrange")
     t0 = time.perf_counter()
     r = run_release(scene(rate, duration), m,
-                    LineRelease(SIGMA_C, 0.4, cracks=((XC - 0.4, XC + 0.4),)),
+                    LineRelease(SIGMA_C, 0.4, cracks=((XC - 0.4, XC + 0.4),), fracture_energy=gc),
                     Stepping(output_interval=0.05 * US), max_length=5.0)
     t, e = r.tips["t"] / US, r.tips["x"]
     start = {}
@@ -159,14 +163,15 @@ def three_cracks(rate: float, f: float, duration: float) -> dict:
                         ("tip 3", e[:, 1, 1] > e[0, 1, 1])):
         start[name] = float(t[np.argmax(moved)]) if moved.any() else math.nan
     joined = np.flatnonzero(np.isclose(e[:, 0, 1], e[:, 1, 1]))
-    return {"rate": rate, "f": f, "start_us": start,
+    return {"rate": rate, "f": f, "release": "cohesive" if cohesive else "at once", "start_us": start,
             "tip3_after_tip1_us": start["tip 3"] - start["tip 1"],
             "joined_us": float(t[joined[0]]) if len(joined) else math.nan,
             "t_us": t, "tips_mm": e, "stop": r.stop, "seconds": time.perf_counter() - t0}
 
 
 def _brief(r: dict) -> dict:
-    keys = ("rate", "f", "a0_mm", "release", "nodes", "initiation_us", "speed_at_2mm_m_s", "max_speed_m_s",
+    keys = ("rate", "f", "a0_mm", "release", "G_c_N_mm", "nodes", "initiation_us", "speed_at_2mm_m_s",
+            "max_speed_m_s",
             "releases", "new_cracks", "sigma1_peak_MPa", "stop", "dt_us", "seconds")
     return {k: r[k] for k in keys}
 
@@ -177,24 +182,26 @@ def main(quick: bool = False, out_dir=None) -> dict:
     arrival = W / MAT.c_dilatational / US  # the P wave from the pulled edge reaches the line
     if quick:
         runs = {1000: run(1000.0, 4.0, 2.6 * US, A_SEED_READING, max_length=1.6)}
-    else:
+        seed_runs = {}
+    else:  # the energy release (checked) and the seed's release at once, side by side
         runs = {rate: run(float(rate), 1.0, dur * US, A_SEED_READING)
-                for rate, dur in ((200, 14.0), (1000, 6.0))}
+                for rate, dur in ((200, 17.0), (1000, 6.0))}
+        seed_runs = {rate: run(float(rate), 1.0, dur * US, A_SEED_READING, cohesive=False)
+                     for rate, dur in ((200, 14.0), (1000, 6.0))}
     sens = []
     if not quick:  # the other reading of the crack length, a grid twice as coarse, dt / 2,
-        # the cohesive release (not the seed's)
-        for rate, f, dur, a0, dtf, coh in ((200, 1.0, 16.0, 0.4, 1.0, False),
-                                           (1000, 1.0, 6.0, 0.4, 1.0, False),
-                                           (200, 2.0, 16.0, A_SEED_READING, 1.0, False),
-                                           (1000, 2.0, 6.0, A_SEED_READING, 1.0, False),
-                                           (1000, 1.0, 6.0, A_SEED_READING, 0.5, False),
-                                           (200, 1.0, 14.0, A_SEED_READING, 1.0, True),
-                                           (1000, 1.0, 6.0, A_SEED_READING, 1.0, True)):
-            r = run(float(rate), f, dur * US, a0, dt_factor=dtf, cohesive=coh)
-            sens.append({**_brief(r), "dt_factor": dtf})
-    three = {} if quick else {str(rate): three_cracks(float(rate), 1.0, dur * US)
-                              for rate, dur in ((200, 18.0), (1000, 5.0))}
-    rep.metrics.update({"runs": {str(k): v for k, v in runs.items()}, "sensitivity": sens,
+        # half the fracture energy (rate, f, duration, a0, dt factor, energy factor)
+        for rate, f, dur, a0, dtf, ef in ((200, 1.0, 16.0, 0.4, 1.0, 1.0),
+                                          (200, 2.0, 17.0, A_SEED_READING, 1.0, 1.0),
+                                          (1000, 2.0, 6.0, A_SEED_READING, 1.0, 1.0),
+                                          (1000, 1.0, 6.0, A_SEED_READING, 0.5, 1.0),
+                                          (200, 1.0, 17.0, A_SEED_READING, 1.0, 0.5)):
+            r = run(float(rate), f, dur * US, a0, dt_factor=dtf, energy_factor=ef)
+            sens.append({**_brief(r), "dt_factor": dtf, "energy_factor": ef})
+    three = {} if quick else {f"{rate}{'' if coh else ' at once'}": three_cracks(float(rate), 1.0, dur * US, coh)
+                              for rate, dur, coh in ((200, 20.0, True), (1000, 5.0, True), (200, 18.0, False))}
+    rep.metrics.update({"runs": {str(k): v for k, v in runs.items()},
+                        "runs_at_once": {str(k): v for k, v in seed_runs.items()}, "sensitivity": sens,
                         "three_cracks": three,
                         "c_R_m_s": c_r, "arrival_us": arrival, "plate_mm": [2 * W, 2 * W]})
     if not quick:
@@ -203,9 +210,20 @@ def main(quick: bool = False, out_dir=None) -> dict:
         # seed 9.6 us; measured 9.75 us (1.5 %) on the seed's grid, 14.1 us on the grid twice
         # as coarse: the stress at the node ahead grows like 1 / sqrt(spacing)
         rep.check("200/s: |initiation / 9.6 us - 1|", abs(runs[200]["initiation_us"] / 9.6 - 1), "<=", 0.05)
-        rep.check("200/s: |speed at 2 mm / 1.9 km/s - 1|",
-                  abs(runs[200]["speed_at_2mm_m_s"] / SEED["speed_at_2mm_m_s"] - 1), "<=", 0.25)
         rep.check("200/s: max LSQ speed / c_R", runs[200]["max_speed_m_s"] / c_r, "<=", 1.0)
+        # the seed's release reproduces the seed's speed: measured 1758 m/s (-7.5 %); the
+        # energy release's 1354 m/s (-29 %) is reported, not checked (module docstring)
+        rep.check("seed's release, 200/s: |speed at 2 mm / 1.9 km/s - 1|",
+                  abs(seed_runs[200]["speed_at_2mm_m_s"] / SEED["speed_at_2mm_m_s"] - 1), "<=", 0.2)
+        for rate in (200, 1000):  # the model (half the body) dissipates G_c / 2 per unit of
+            # new crack once the segments are free (cohesive.py), never more; the last few may
+            # still soften: measured deficits 0.034 (200/s) and 0.026 (1000/s)
+            x = runs[rate]
+            deficit = 1 - x["dissipated_N"] / (0.5 * x["G_c_N_mm"] * (x["length_mm"][-1] - x["length_mm"][0]))
+            rep.check(f"{rate}/s: 1 - dissipated / (G_c da / 2) (energy balance of the release)",
+                      deficit, ">=", -1e-9)
+            rep.check(f"{rate}/s: 1 - dissipated / (G_c da / 2) (segments still softening)",
+                      deficit, "<=", 0.08)
     r = runs[1000]
     # seed "about 2 us"; no release can precede the P wave's arrival at the line, 1.92 us;
     # measured 2.06 us (3 %) on the seed's grid, 2.4 us on the quick grid (0.1 mm)
@@ -234,35 +252,39 @@ def markdown(r: dict) -> list[str]:
     out = [f"Quarter model 10 x 10 mm (plate {m['plate_mm'][0]:g} x {m['plate_mm'][1]:g} mm, the seed "
            "omits its dimensions: module docstring), crack half-length a0 = 0.8 mm, "
            "principal-stress criterion 4.5 GPa at the bonded nodes of the symmetry line, "
-           "nodal release (efgkit.growth.release), top edge pulled at v0 = rate x 10 mm.", "",
-           "| rate (1/s) | nodes | spacing on the line (mm) | initiation (us) | seed | speed at 2 mm "
-           "(m/s) | seed | max speed / c_R | releases | new cracks | run (s) |",
+           "nodal release (efgkit.growth.release), top edge pulled at v0 = rate x 10 mm. Release: "
+           "'energy' (checked) softens the released support and dissipates the fracture energy "
+           "the criterion implies, G_c = 2 pi h sigma_c^2 / E' (efgkit.growth.cohesive); 'at once' "
+           "is the seed's.", "",
+           "| rate (1/s) | release | nodes | initiation (us) | seed | speed at 2 mm (m/s) | seed | "
+           "max speed / c_R | releases | new cracks | run (s) |",
            "|---|---|---|---|---|---|---|---|---|---|---|"]
-    for k, x in m["runs"].items():
-        out.append(f"| {k} | {x['nodes']} | {x['h_line_mm']:g} | {_f(x['initiation_us'], '.2f')} | "
-                   f"{SEED['initiation_us'][int(k)]:g} | {_f(x['speed_at_2mm_m_s'], '.0f')} | "
-                   f"{'1900' if k == '200' else '-'} | {x['max_speed_m_s'] / m['c_R_m_s']:.3f} | "
-                   f"{x['releases']} | {x['new_cracks']} | {x['seconds']:.0f} |")
+    for rel, runs in (("energy", m["runs"]), ("at once", m.get("runs_at_once", {}))):
+        for k, x in runs.items():
+            out.append(f"| {k} | {rel} | {x['nodes']} | {_f(x['initiation_us'], '.2f')} | "
+                       f"{SEED['initiation_us'][int(k)]:g} | {_f(x['speed_at_2mm_m_s'], '.0f')} | "
+                       f"{'1900' if k == '200' else '-'} | {x['max_speed_m_s'] / m['c_R_m_s']:.3f} | "
+                       f"{x['releases']} | {x['new_cracks']} | {x['seconds']:.0f} |")
     if m.get("sensitivity"):
-        out += ["", "Sensitivity (not checked):", "",
-                "| rate | spacing factor | a0 (mm) | dt factor | release | initiation (us) | "
-                "speed at 2 mm (m/s) | max speed / c_R | peak sigma_1 on the line (MPa) |",
-                "|---|---|---|---|---|---|---|---|---|"]
+        out += ["", "Sensitivity (energy release, not checked):", "",
+                "| rate | spacing factor | a0 (mm) | dt factor | G_c (N/mm) | initiation (us) | "
+                "speed at 2 mm (m/s) | max speed / c_R | new cracks | peak sigma_1 on the line (MPa) |",
+                "|---|---|---|---|---|---|---|---|---|---|"]
         out += [f"| {s['rate']:g} | {s['f']:g} | {s['a0_mm']:g} | {s['dt_factor']:g} | "
-                f"{s.get('release', 'at once')} | "
-                f"{_f(s['initiation_us'], '.2f')} | {_f(s['speed_at_2mm_m_s'], '.0f')} | "
-                f"{s['max_speed_m_s'] / m['c_R_m_s']:.3f} | {s['sigma1_peak_MPa']:.0f} |"
+                f"{s['G_c_N_mm']:.2f} | {_f(s['initiation_us'], '.2f')} | {_f(s['speed_at_2mm_m_s'], '.0f')} | "
+                f"{s['max_speed_m_s'] / m['c_R_m_s']:.3f} | {s['new_cracks']} | {s['sigma1_peak_MPa']:.0f} |"
                 for s in m["sensitivity"]]
     if m.get("three_cracks"):
         out += ["", "Three cracks (seed 000 Sect. 5.2.2): three 0.8 mm cracks centred at 0 and "
                 f"+-{XC:g} mm (our choice: the seed's Fig. 19 is missing), seed's grid. Tip 1 is "
                 "the central crack's, tips 2 and 3 the side crack's inner and outer tips.", "",
-                "| rate (1/s) | tip 1 starts (us) | tip 2 (us) | tip 3 (us) | tip 3 - tip 1 (us) | "
-                "seed | cracks join (us) |", "|---|---|---|---|---|---|---|"]
+                "| rate (1/s) | release | tip 1 starts (us) | tip 2 (us) | tip 3 (us) | tip 3 - tip 1 (us) | "
+                "seed | cracks join (us) |", "|---|---|---|---|---|---|---|---|"]
         for k, x in m["three_cracks"].items():
             st = x["start_us"]
-            out.append(f"| {k} | {_f(st['tip 1'], '.2f')} | {_f(st['tip 2'], '.2f')} | "
-                       f"{_f(st['tip 3'], '.2f')} | {_f(x['tip3_after_tip1_us'], '.2f')} | "
-                       f"{'0.4 (tip 2 a little later)' if k == '200' else 'simultaneous'} | "
+            out.append(f"| {x['rate']:g} | {x.get('release', 'at once')} | {_f(st['tip 1'], '.2f')} | "
+                       f"{_f(st['tip 2'], '.2f')} | {_f(st['tip 3'], '.2f')} | "
+                       f"{_f(x['tip3_after_tip1_us'], '.2f')} | "
+                       f"{'0.4 (tip 2 a little later)' if x['rate'] == 200 else 'simultaneous'} | "
                        f"{_f(x['joined_us'], '.2f')} |")
     return out
