@@ -146,8 +146,10 @@ def test_cohesive_release_slows_the_crack_and_dissipates_g_c():
 @pytest.mark.parametrize("make, err, match", [
     (lambda: LineRelease(-1.0, 0.3), ValueError, "sigma_c must be a finite number > 0"),
     (lambda: LineRelease(1.0, 0.3, check_every=0), ValueError, "check_every must be an int >= 1"),
-    (lambda: LineRelease(1.0, 0.3, fracture_energy=-1e-3), ValueError, "fracture_energy must be a finite number >= 0"),
-    (lambda: run_release(*plate(), LineRelease(1.0, 0.3, fracture_energy=lambda x: x[:, 0] - 1.0)), ValueError,
+    (lambda: LineRelease(1.0, 0.3, fracture_energy=-1e-3), ValueError,
+     "fracture_energy must be a finite number >= 0"),
+    (lambda: run_release(*plate(), LineRelease(1.0, 0.3, fracture_energy=lambda x: x[:, 0] - 1.0)),
+     ValueError,
      "fracture_energy is -1.0 at the line's node x = 0.0: it must be finite and >= 0"),
     (lambda: criterion_energy(1.0, 0.0, 1.0), ValueError, "spacing must be a finite number > 0"),
     (lambda: criterion_energy(-1.0, 0.1, 1.0), ValueError,

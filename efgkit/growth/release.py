@@ -138,6 +138,8 @@ class Released:
     stop : str
     state : State
     info, timings : dict
+        ``info["dissipated"]``: the energy the softening supports absorbed (the model's:
+        half the body's, ``G_c / 2`` per unit of new crack once the segments are free).
     """
 
     t: np.ndarray
