@@ -31,7 +31,9 @@ images, the released node moves off the line freely.
 
 Release of the support: at once, as the seed (``fracture_energy = 0``, the default), or
 softening with the segment's opening, a linear cohesive law that dissipates the fracture
-energy G_c per unit of new crack (``fracture_energy > 0``, :mod:`efgkit.growth.cohesive`).
+energy G_c per unit of new crack (``fracture_energy > 0``, :mod:`efgkit.growth.cohesive`);
+then the traction-free crack (``Released.free``: its supports gone) trails the released
+nodes (the front of the cohesive zone), and its tip is the crack tip of the model.
 
 When the criterion was met: sigma_1 at a released node interpolated linearly in time
 between the previous check and this one (``interpolate``, default); the release acts at
@@ -39,8 +41,7 @@ the check. Without it the growth instants are multiples of the step and the 11-p
 jumps between h / dt and h / 2 dt (3981 and 1990 m/s on the tungsten plate).
 
 The step is ``safety`` times the critical step of the system without any line constraint
-(releasing constraints can only raise omega_max: the bound holds for every crack state).
-"""
+(releasing constraints can only raise omega_max: the bound holds for every crack state)."""
 
 from __future__ import annotations
 
@@ -56,7 +57,7 @@ from ..explicit import State, dynamics, integrate, stable_step
 from ..explicit.system import Projection
 from ..problem.history import Stepping
 from ..problem.material import strain_from_gradient
-from .cohesive import Softening, opening_for
+from .cohesive import Supports, opening_for
 from .dynamic import principal_stress
 from .release_rules import release_segments
 from .running_tip import speed_fit
@@ -135,6 +136,9 @@ class Released:
         ``t (k,)`` (0, then every check with a release) and ``x (k, n_cracks, 2)``: the
         left and right ends of the open stretch holding each initial crack (the main
         crack first; stretches that joined share their ends).
+    free : dict
+        ``t``, ``length``, ``speed``: the same for the traction-free crack (supports gone:
+        softened to zero, the tip of a cohesive model; with the seed's release, the same).
     stop : str
     state : State
     info, timings : dict
@@ -154,6 +158,7 @@ class Released:
     info: dict = field(default_factory=dict)
     timings: dict = field(default_factory=dict)
     tips: dict = field(default_factory=dict)
+    free: dict = field(default_factory=dict)
 
 
 class _Line:
@@ -287,19 +292,24 @@ def run_release(scene, method, rule: LineRelease, stepping: Stepping | None = No
     # similar scales keep G M^-1 G^T well conditioned for the LU)
     scale = abs(G0).max() / abs(line.B).max() if G0.shape[0] else 1.0
 
-    def system(cohesive=()):
+    def system():
         Gl = line.rows()
         G = csr_array(vstack([G0, scale * Gl], format="csr"))
         P = Projection.build(G, np.concatenate([q0, np.zeros(Gl.shape[0])]), dyn0.minv)
         Q = None if dyn0.Q is None else np.vstack([dyn0.Q, np.zeros((Gl.shape[0], dyn0.Q.shape[1]))])
-        if not cohesive:
+        if not sup.items:
             return replace(dyn0, projection=P, Q=Q)
-        F = np.column_stack([dyn0.F] + [c[0] for c in cohesive])
-        return replace(dyn0, projection=P, Q=Q, F=F,
-                       histories=dyn0.histories + tuple(c[1] for c in cohesive))
+        return replace(dyn0, projection=P, Q=Q, F=np.column_stack([dyn0.F] + sup.forces),
+                       histories=dyn0.histories + sup.histories)
 
-    cohesive = []  # (force (n_dofs,), Softening): released segments still holding (G_c > 0)
-    freed = 0.0  # the energy dissipated by the segments already free
+    sup = Supports(line.open.copy())  # released segments still holding (G_c > 0), free instants
+    fa, ft = [line.length()], [0.0]  # the traction-free crack: length and instants
+
+    def free_tip():  # the stretch from x_0 whose segments are all free
+        k = int(np.argmax(np.r_[np.isnan(sup.free_at), True]))
+        if line.x[k] - line.x[0] > fa[-1] + 1e-12:
+            ft.append(float(np.max(sup.free_at[np.searchsorted(line.x, line.x[0] + fa[-1] - 1e-12):k])))
+            fa.append(float(line.x[k] - line.x[0]))
     e_y = np.zeros(dyn0.n_dofs)  # the coefficients of u = (0, 1): the MLS bases reproduce constants
     e_y[1:2 * dyn0.disc.nodes.n:2] = 1.0
     dyn = system()
@@ -324,8 +334,8 @@ def run_release(scene, method, rule: LineRelease, stepping: Stepping | None = No
                         dsif=None, critical=free, progress=False)
         timings["integrate"] += time.perf_counter() - t1
         state, step = sol.state, nxt
-        for c in cohesive:
-            c[1].update(state.u)
+        sup.update(state.u, t_prev, step * dt)
+        free_tip()
         t1 = time.perf_counter()
         s1 = line.sigma1(state.u)
         bonded = ~np.r_[True, line.open] & ~np.r_[line.open, True]
@@ -358,17 +368,17 @@ def run_release(scene, method, rule: LineRelease, stepping: Stepping | None = No
         t_grow = float(t_met.max())
         s1_prev, t_prev = s1, t_check
         t1 = time.perf_counter()
-        if np.any(line.gc > 0):  # the support's force on the opened segments, softening
+        opened = np.flatnonzero(line.open & ~was_open)
+        if np.any(line.gc[opened] > 0):  # the support's force on the opened segments, softening
             Pold, t_now = dyn.projection, step * dt
             lam = Pold.lu.solve(Pold.G @ (dyn.minv * (dyn.force(t_now) - dyn.K @ state.u)))
-            opened = np.flatnonzero(line.open & ~was_open)
             fs = line.segment_forces(scale * lam[G0.shape[0]:], opened)
-            freed += sum(c[1].dissipated for c in cohesive if c[1].value <= 0)
-            cohesive = [c for c in cohesive if c[1].value > 0]
-            F0 = fs.T @ e_y
-            dj = opening_for(line.gc[opened], np.diff(line.x)[opened], F0)
-            cohesive += [(fj, Softening(fj, float(f0), float(d)))
-                         for fj, f0, d in zip(fs.T, F0, dj, strict=True) if d > 0]
+            sup.prune()
+            sup.add(opened, fs, fs.T @ e_y, opening_for(line.gc[opened], np.diff(line.x)[opened],
+                                                       fs.T @ e_y), t_grow)
+        else:
+            sup.free_at[opened] = t_grow
+        free_tip()
         for x, new in events:
             rel["t"].append(t_grow)
             rel["x"].append(x)
@@ -379,7 +389,7 @@ def run_release(scene, method, rule: LineRelease, stepping: Stepping | None = No
         if a > la[-1]:
             ta.append(t_grow)
             la.append(a)
-        dyn = system(cohesive)
+        dyn = system()
         P = dyn.projection
         q_now, q_before = dyn.prescribed(step * dt), dyn.prescribed((step - 1) * dt)
         u = state.u - P.correction(state.u, q_now)
@@ -398,8 +408,12 @@ def run_release(scene, method, rule: LineRelease, stepping: Stepping | None = No
     timings["total"] = time.perf_counter() - t0
     info = {"dt": dt, "dt_critical_free": free[0], "steps": step, "n_nodes": dyn.disc.nodes.n,
             "line_nodes": len(line.x), "releases": len(rel["t"]),
-            "dissipated": freed + sum(c[1].dissipated for c in cohesive)}
+            "dissipated": sup.dissipated}
     tips = {"t": np.array(tip_t), "x": np.array(tip_x)}
+    ft, fa = np.array(ft), np.array(fa)
+    fv = np.full(len(ft), math.nan)
+    if len(ft) >= 3:
+        fv[1:] = speed_fit(ft[1:], fa[1:])
     return Released(t, a, speed, {k: np.array(v) for k, v in rel.items()},
                     {k: np.array(v) for k, v in hist.items()}, line.x, line.open.copy(), stop,
-                    state, info, timings, tips)
+                    state, info, timings, tips, {"t": ft, "length": fa, "speed": fv})
