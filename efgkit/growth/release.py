@@ -29,8 +29,11 @@ least-squares slope over 11 points (:func:`~efgkit.growth.running_tip.speed_fit`
 a split particle) has no counterpart here: the two faces of a symmetric model are mirror
 images, the released node moves off the line freely.
 
-Release of the support: at once, as the seed (``opening = 0``), or softening with the
-segment's opening, a linear cohesive law (``opening > 0``, :mod:`efgkit.growth.cohesive`).
+Release of the support: at once, as the seed (``fracture_energy = 0``, the default), or
+softening with the segment's opening, a linear cohesive law that dissipates the fracture
+energy G_c per unit of new crack (``fracture_energy > 0``, :mod:`efgkit.growth.cohesive`);
+then the traction-free crack (``Released.free``: its supports gone) trails the released
+nodes (the front of the cohesive zone), and its tip is the crack tip of the model.
 
 When the criterion was met: sigma_1 at a released node interpolated linearly in time
 between the previous check and this one (``interpolate``, default); the release acts at
@@ -38,8 +41,7 @@ the check. Without it the growth instants are multiples of the step and the 11-p
 jumps between h / dt and h / 2 dt (3981 and 1990 m/s on the tungsten plate).
 
 The step is ``safety`` times the critical step of the system without any line constraint
-(releasing constraints can only raise omega_max: the bound holds for every crack state).
-"""
+(releasing constraints can only raise omega_max: the bound holds for every crack state)."""
 
 from __future__ import annotations
 
@@ -55,7 +57,7 @@ from ..explicit import State, dynamics, integrate, stable_step
 from ..explicit.system import Projection
 from ..problem.history import Stepping
 from ..problem.material import strain_from_gradient
-from .cohesive import Softening
+from .cohesive import Supports, opening_for
 from .dynamic import principal_stress
 from .release_rules import release_segments
 from .running_tip import speed_fit
@@ -72,9 +74,10 @@ class LineRelease:
     node (smallest x, the centre of the body) over ``a0`` (rounded to the nearest node);
     ``cracks``: further initial cracks on the line, ``((x_start, x_end), ...)`` (ends
     rounded to the nearest nodes); nodes within ``tol`` of ``y0`` are on the line;
-    ``opening``: the critical opening delta_c of the linear softening of a released
-    segment's support force (length units; a callable ``x (m, 2) -> (m,)`` as sigma_c,
-    taken at the segment's right node; 0: released at once, as seed 000), module docstring;
+    ``fracture_energy``: G_c (energy per unit crack area, stress x length: N/mm in mm and
+    MPa; a callable ``x (m, 2) -> (m,)`` as sigma_c, the mean of a segment's two nodes
+    taken), dissipated by the linear softening of a released segment's support force
+    (:mod:`efgkit.growth.cohesive`); 0: released at once, as seed 000;
     ``interpolate``: growth instants at the time sigma_1 crossed sigma_c (linear between
     checks) instead of the check's step."""
 
@@ -84,7 +87,7 @@ class LineRelease:
     check_every: int = 1
     tol: float = 1e-9
     cracks: tuple = ()
-    opening: float | Callable = 0.0
+    fracture_energy: float | Callable = 0.0
     interpolate: bool = True
 
     def __post_init__(self):
@@ -97,11 +100,11 @@ class LineRelease:
             raise ValueError(f"cracks must be pairs (x_start, x_end) with x_end > x_start, "
                              f"got {self.cracks!r}")
         object.__setattr__(self, "cracks", tuple(map(tuple, c.tolist())))
-        dc = self.opening
-        if not callable(dc) and (isinstance(dc, bool) or not isinstance(dc, (int, float))
-                                 or not math.isfinite(dc) or dc < 0):
-            raise ValueError(f"opening must be a finite number >= 0 (length units of the scene; "
-                             f"0: instantaneous release) or a callable, got {dc!r}")
+        gc = self.fracture_energy
+        if not callable(gc) and (isinstance(gc, bool) or not isinstance(gc, (int, float))
+                                 or not math.isfinite(gc) or gc < 0):
+            raise ValueError(f"fracture_energy must be a finite number >= 0 (stress x length "
+                             f"units of the scene; 0: instantaneous release) or a callable, got {gc!r}")
         if isinstance(self.check_every, bool) or not isinstance(self.check_every, int) \
                 or self.check_every < 1:
             raise ValueError(f"check_every must be an int >= 1 (steps), got {self.check_every!r}")
@@ -124,6 +127,8 @@ class Released:
     history : dict
         At the output instants: ``t``, ``length``, ``sigma1_max`` (the largest sigma_1
         over the bonded line nodes), ``ratio_max`` (the largest sigma_1 / sigma_c there),
+        ``ratio_ahead`` (the same over the bonded nodes 3 or more segments from any open
+        one: away from the tips' fields),
         ``kinetic``, ``work``.
     line_x : ndarray (m,)
         The line's nodes; ``open`` (m - 1,) bool: the final open segments.
@@ -131,9 +136,14 @@ class Released:
         ``t (k,)`` (0, then every check with a release) and ``x (k, n_cracks, 2)``: the
         left and right ends of the open stretch holding each initial crack (the main
         crack first; stretches that joined share their ends).
+    free : dict
+        ``t``, ``length``, ``speed``: the same for the traction-free crack (supports gone:
+        softened to zero, the tip of a cohesive model; with the seed's release, the same).
     stop : str
     state : State
     info, timings : dict
+        ``info["dissipated"]``: the energy the softening supports absorbed (the model's:
+        half the body's, ``G_c / 2`` per unit of new crack once the segments are free).
     """
 
     t: np.ndarray
@@ -148,6 +158,7 @@ class Released:
     info: dict = field(default_factory=dict)
     timings: dict = field(default_factory=dict)
     tips: dict = field(default_factory=dict)
+    free: dict = field(default_factory=dict)
 
 
 class _Line:
@@ -182,13 +193,13 @@ class _Line:
         self.fE = np.ones(len(xs)) if g is None else g.factors(on_line)[0]
         sc = rule.sigma_c
         self.sigma_c = np.broadcast_to(np.asarray(sc(on_line) if callable(sc) else sc, float), (len(xs),))
-        dc = rule.opening
-        self.opening = np.broadcast_to(np.asarray(dc(on_line) if callable(dc) else dc, float), (len(xs),))
-        if not np.all(np.isfinite(self.opening) & (self.opening >= 0)):
-            k = int(np.flatnonzero(~(np.isfinite(self.opening) & (self.opening >= 0)))[0])
-            raise ValueError(f"opening is {float(self.opening[k])!r} at the line's node "
-                             f"x = {float(xs[k])!r}: the critical opening must be finite and >= 0 "
-                             "at every node")
+        gc = rule.fracture_energy
+        gc = np.broadcast_to(np.asarray(gc(on_line) if callable(gc) else gc, float), (len(xs),))
+        if not np.all(np.isfinite(gc) & (gc >= 0)):
+            k = int(np.flatnonzero(~(np.isfinite(gc) & (gc >= 0)))[0])
+            raise ValueError(f"fracture_energy is {float(gc[k])!r} at the line's node "
+                             f"x = {float(xs[k])!r}: it must be finite and >= 0 at every node")
+        self.gc = 0.5 * (gc[:-1] + gc[1:])  # per segment
         if not np.all(np.isfinite(self.sigma_c) & (self.sigma_c > 0)):
             k = int(np.flatnonzero(~(np.isfinite(self.sigma_c) & (self.sigma_c > 0)))[0])
             raise ValueError(f"sigma_c is {float(self.sigma_c[k])!r} at the line's node "
@@ -281,18 +292,24 @@ def run_release(scene, method, rule: LineRelease, stepping: Stepping | None = No
     # similar scales keep G M^-1 G^T well conditioned for the LU)
     scale = abs(G0).max() / abs(line.B).max() if G0.shape[0] else 1.0
 
-    def system(cohesive=()):
+    def system():
         Gl = line.rows()
         G = csr_array(vstack([G0, scale * Gl], format="csr"))
         P = Projection.build(G, np.concatenate([q0, np.zeros(Gl.shape[0])]), dyn0.minv)
         Q = None if dyn0.Q is None else np.vstack([dyn0.Q, np.zeros((Gl.shape[0], dyn0.Q.shape[1]))])
-        if not cohesive:
+        if not sup.items:
             return replace(dyn0, projection=P, Q=Q)
-        F = np.column_stack([dyn0.F] + [c[0] for c in cohesive])
-        return replace(dyn0, projection=P, Q=Q, F=F,
-                       histories=dyn0.histories + tuple(c[1] for c in cohesive))
+        return replace(dyn0, projection=P, Q=Q, F=np.column_stack([dyn0.F] + sup.forces),
+                       histories=dyn0.histories + sup.histories)
 
-    cohesive = []  # (force (n_dofs,), _Softening): released segments still holding (rule.opening)
+    sup = Supports(line.open.copy())  # released segments still holding (G_c > 0), free instants
+    fa, ft = [line.length()], [0.0]  # the traction-free crack: length and instants
+
+    def free_tip():  # the stretch from x_0 whose segments are all free
+        k = int(np.argmax(np.r_[np.isnan(sup.free_at), True]))
+        if line.x[k] - line.x[0] > fa[-1] + 1e-12:
+            ft.append(float(np.max(sup.free_at[np.searchsorted(line.x, line.x[0] + fa[-1] - 1e-12):k])))
+            fa.append(float(line.x[k] - line.x[0]))
     e_y = np.zeros(dyn0.n_dofs)  # the coefficients of u = (0, 1): the MLS bases reproduce constants
     e_y[1:2 * dyn0.disc.nodes.n:2] = 1.0
     dyn = system()
@@ -306,7 +323,8 @@ def run_release(scene, method, rule: LineRelease, stepping: Stepping | None = No
     ta, la = [0.0], [line.length()]
     tip_t, tip_x = [0.0], [line.tips()]
     rel = {"t": [], "x": [], "new_crack": []}
-    hist = {"t": [], "length": [], "sigma1_max": [], "ratio_max": [], "kinetic": [], "work": []}
+    hist = {"t": [], "length": [], "sigma1_max": [], "ratio_max": [], "ratio_ahead": [], "kinetic": [],
+            "work": []}
     lim = line.x[-1] - line.x[0] if max_length is None else max_length
     st = replace(stepping, dt=dt, output_interval=None)
     while step < n_total:
@@ -316,8 +334,8 @@ def run_release(scene, method, rule: LineRelease, stepping: Stepping | None = No
                         dsif=None, critical=free, progress=False)
         timings["integrate"] += time.perf_counter() - t1
         state, step = sol.state, nxt
-        for c in cohesive:
-            c[1].update(state.u)
+        sup.update(state.u, t_prev, step * dt)
+        free_tip()
         t1 = time.perf_counter()
         s1 = line.sigma1(state.u)
         bonded = ~np.r_[True, line.open] & ~np.r_[line.open, True]
@@ -326,6 +344,8 @@ def run_release(scene, method, rule: LineRelease, stepping: Stepping | None = No
             hist["length"].append(line.length())
             hist["sigma1_max"].append(float(s1[bonded].max()) if bonded.any() else math.nan)
             hist["ratio_max"].append(float((s1 / line.sigma_c)[bonded].max()) if bonded.any() else math.nan)
+            far = np.convolve(np.r_[True, line.open, True].astype(float), np.ones(6), "same")[1:] == 0
+            hist["ratio_ahead"].append(float((s1 / line.sigma_c)[far].max()) if far.any() else math.nan)
             hist["kinetic"].append(float(sol.history["kinetic"][-1]))
             hist["work"].append(float(sol.history["work"][-1]))
         was_open = line.open.copy()
@@ -348,14 +368,17 @@ def run_release(scene, method, rule: LineRelease, stepping: Stepping | None = No
         t_grow = float(t_met.max())
         s1_prev, t_prev = s1, t_check
         t1 = time.perf_counter()
-        if np.any(line.opening > 0):  # the support's force on the opened segments, softening
+        opened = np.flatnonzero(line.open & ~was_open)
+        if np.any(line.gc[opened] > 0):  # the support's force on the opened segments, softening
             Pold, t_now = dyn.projection, step * dt
             lam = Pold.lu.solve(Pold.G @ (dyn.minv * (dyn.force(t_now) - dyn.K @ state.u)))
-            opened = np.flatnonzero(line.open & ~was_open)
             fs = line.segment_forces(scale * lam[G0.shape[0]:], opened)
-            cohesive = [c for c in cohesive if c[1].value > 0]
-            cohesive += [(fj, Softening(fj, float(fj @ e_y), float(line.opening[j + 1])))
-                         for j, fj in zip(opened, fs.T, strict=True) if line.opening[j + 1] > 0]
+            sup.prune()
+            sup.add(opened, fs, fs.T @ e_y, opening_for(line.gc[opened], np.diff(line.x)[opened],
+                                                       fs.T @ e_y), t_grow)
+        else:
+            sup.free_at[opened] = t_grow
+        free_tip()
         for x, new in events:
             rel["t"].append(t_grow)
             rel["x"].append(x)
@@ -366,7 +389,7 @@ def run_release(scene, method, rule: LineRelease, stepping: Stepping | None = No
         if a > la[-1]:
             ta.append(t_grow)
             la.append(a)
-        dyn = system(cohesive)
+        dyn = system()
         P = dyn.projection
         q_now, q_before = dyn.prescribed(step * dt), dyn.prescribed((step - 1) * dt)
         u = state.u - P.correction(state.u, q_now)
@@ -384,8 +407,13 @@ def run_release(scene, method, rule: LineRelease, stepping: Stepping | None = No
         speed[1:] = speed_fit(t[1:], a[1:])
     timings["total"] = time.perf_counter() - t0
     info = {"dt": dt, "dt_critical_free": free[0], "steps": step, "n_nodes": dyn.disc.nodes.n,
-            "line_nodes": len(line.x), "releases": len(rel["t"])}
+            "line_nodes": len(line.x), "releases": len(rel["t"]),
+            "dissipated": sup.dissipated}
     tips = {"t": np.array(tip_t), "x": np.array(tip_x)}
+    ft, fa = np.array(ft), np.array(fa)
+    fv = np.full(len(ft), math.nan)
+    if len(ft) >= 3:
+        fv[1:] = speed_fit(ft[1:], fa[1:])
     return Released(t, a, speed, {k: np.array(v) for k, v in rel.items()},
                     {k: np.array(v) for k, v in hist.items()}, line.x, line.open.copy(), stop,
-                    state, info, timings, tips)
+                    state, info, timings, tips, {"t": ft, "length": fa, "speed": fv})
