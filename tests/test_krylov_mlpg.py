@@ -10,8 +10,10 @@ from scipy.sparse import csr_array
 from efgkit import MLPG, Domain, Elastic, Scene, Support, Traction, solve
 from efgkit.gallery import sent
 from efgkit.methods.local import discretize_local
+from efgkit.static import mlpg_auxiliary
 from efgkit.system import krylov
 from efgkit.system.constraints import LinearSystem
+from efgkit.system.krylov_mlpg import checkerboard_quotient
 from efgkit.system.linalg import SolverError
 
 
@@ -59,8 +61,9 @@ def test_amg_gmres_on_cracked_strip_gives_direct_k():
 
 def test_amg_refuses_gaussian_default_and_auto_falls_back(monkeypatch):
     """With the Gaussian k = 2 default the nodal matrix has negative symbol at the
-    checkerboard (-0.067): GMRES with this preconditioner does not converge; "amg" says so,
-    "auto" falls back to ILU-GMRES and reports it."""
+    checkerboard (-0.067): GMRES with this preconditioner cannot converge (without the check,
+    120 iterations reached 3.8e-7 at h = 1/16); "amg" says so, "auto" falls back to ILU-GMRES
+    and reports it."""
     sc = plate()
     disc = discretize_local(sc, MLPG(spacing=1 / 16))
     with pytest.raises(SolverError, match="solver='amg'.*Remedy: solver='gmres'"):
@@ -68,9 +71,19 @@ def test_amg_refuses_gaussian_default_and_auto_falls_back(monkeypatch):
     monkeypatch.setattr(krylov, "AUTO_KRYLOV_THRESHOLD", 100)
     sol = solve(sc, MLPG(spacing=1 / 16), disc)
     assert sol.info["preconditioner"] == "ilu" and "multigrid" in sol.info["fallback"]
-    assert sol.info["amg_iterations"] > 0 and sol.info["residual"] <= 1e-8
+    assert "checkerboard" in sol.info["fallback"] and sol.info["residual"] <= 1e-8  # ILU-GMRES
     cubic = solve(sc, MLPG(spacing=1 / 12, weight="cubic"))  # "auto" takes the multigrid path
     assert cubic.info["preconditioner"] == "auxiliary" and "fallback" not in cubic.info
+
+
+def test_checkerboard_quotient_sign():
+    """The sign of Phi on the checkerboard decides: negative for the Gaussian k = 2 default,
+    positive for the cubic spline (symbols -0.067 and +0.089 at h = 1/30, module docstring)."""
+    sc = plate()
+    q = {w: checkerboard_quotient(mlpg_auxiliary(discretize_local(sc, MLPG(spacing=0.1, weight=w)),
+                                                 "penalty")[0]) for w in ("gaussian", "cubic")}
+    # the symbols of the centre node's row at (pi, pi), h = 1/30: -0.067 and +0.089
+    assert q["gaussian"] == pytest.approx(-0.067, abs=2e-3) and q["cubic"] == pytest.approx(0.089, abs=2e-3)
 
 
 def test_amg_needs_the_nodal_data():

@@ -162,8 +162,12 @@ def _amg(system, auxiliary, rtol, solver):
         return z, info
     why = (f"multigrid-preconditioned GMRES {'stagnated at' if info['stagnated'] else 'reached'} "
            f"relative residual {info['residual']:.1e} after {info['iterations']} iterations")
+    if info["iterations"] == 0:
+        why = ("multigrid-preconditioned GMRES not tried: the MLS nodal matrix is negative on the "
+               f"checkerboard (Rayleigh quotient {info['checkerboard']:.2g} <= 0)")
     if solver == "amg":
         raise SolverError(f"solver='amg': {why} ({system.A.shape[0]} unknowns). The MLS nodal "
                           "matrix is probably not positive on high-frequency modes (module "
-                          "efgkit.system.krylov_mlpg). Remedy: solver='gmres' (ILU) or 'direct'")
+                          "efgkit.system.krylov_mlpg). Remedy: solver='gmres' (ILU) or 'direct', or an MLS "
+                          "weight whose nodal matrix is positive (weight='cubic')")
     return None, {"amg_iterations": info["iterations"], "amg_residual": info["residual"], "fallback": why}
