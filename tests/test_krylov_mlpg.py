@@ -5,13 +5,14 @@ the Gaussian k = 2 default, where it cannot converge, and bad input is named."""
 
 import numpy as np
 import pytest
-from scipy.sparse import csr_array
+from scipy.sparse import csr_array, diags_array
 
 from efgkit import MLPG, Domain, Elastic, Scene, Support, Traction, solve
 from efgkit.gallery import sent
 from efgkit.methods.local import discretize_local
 from efgkit.static import mlpg_auxiliary
 from efgkit.system import krylov
+from efgkit.system.auxiliary import AuxiliarySpace, p1_stiffness
 from efgkit.system.constraints import LinearSystem
 from efgkit.system.krylov_mlpg import checkerboard_quotient
 from efgkit.system.linalg import SolverError
@@ -66,7 +67,8 @@ def test_amg_refuses_gaussian_default_and_auto_falls_back(monkeypatch):
     and reports it."""
     sc = plate()
     disc = discretize_local(sc, MLPG(spacing=1 / 16))
-    with pytest.raises(SolverError, match="solver='amg'.*Remedy: solver='gmres'"):
+    with pytest.raises(SolverError, match="solver='amg': multigrid-preconditioned GMRES not tried: "
+                       "the MLS nodal matrix is negative on the checkerboard.*Remedy: solver='gmres'"):
         solve(sc, MLPG(spacing=1 / 16, solver="amg"), disc)
     monkeypatch.setattr(krylov, "AUTO_KRYLOV_THRESHOLD", 100)
     sol = solve(sc, MLPG(spacing=1 / 16), disc)
@@ -92,3 +94,26 @@ def test_amg_needs_the_nodal_data():
         krylov.solve_unsymmetric(system, "amg")
     with pytest.raises(ValueError, match="solver must be one of .*'amg'"):
         krylov.solve_unsymmetric(system, "multigrid")
+
+
+def grid_space(n_side: int) -> AuxiliarySpace:
+    g = np.linspace(0.0, 1.0, n_side)
+    x = np.column_stack([np.repeat(g, n_side), np.tile(g, n_side)])
+    return AuxiliarySpace(x, csr_array(np.eye(len(x))), np.eye(3))
+
+
+def test_amg_reports_stagnation_and_a_singular_layer():
+    """A system the P1 surrogate does not resemble (the P1 stiffness with the sign of every
+    other row flipped): GMRES stagnates and "amg" says so; a zero layer block is refused."""
+    space = grid_space(20)
+    n = 2 * len(space.x)
+    P = p1_stiffness(space.x, space.D) + csr_array(np.eye(n)) * 1e-3
+    flip = np.where(np.arange(n) % 4 < 2, 1.0, -1.0)
+    A = csr_array(diags_array(flip) @ P)
+    system = LinearSystem(A, np.ones(n), False, n)
+    with pytest.raises(SolverError, match="solver='amg': multigrid-preconditioned GMRES stagnated at"):
+        krylov.solve_unsymmetric(system, "amg", auxiliary=lambda: (space, np.arange(2)))
+    B = csr_array(np.diag(np.r_[0.0, 0.0, np.ones(n - 2)]))
+    with pytest.raises(SolverError, match="boundary-layer block of the MLPG system .* is singular"):
+        krylov.solve_unsymmetric(LinearSystem(B, np.ones(n), False, n), "amg",
+                                 auxiliary=lambda: (space, np.arange(2)))
