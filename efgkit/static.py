@@ -212,7 +212,9 @@ def solve_mlpg(scene: Scene, method: MLPG, disc: Discretization | None = None) -
     :func:`~efgkit.system.constraints.eliminate`); "collocation": the equations of the
     essential nodes are replaced by u^h_c(x_I) = ubar_c(x_I)
     (:func:`~efgkit.system.collocation.collocation`). The unsymmetric system goes to
-    :func:`~efgkit.system.krylov.solve_unsymmetric` (SuperLU, GMRES or BiCGSTAB).
+    :func:`~efgkit.system.krylov.solve_unsymmetric` (SuperLU, GMRES or BiCGSTAB with ILU, or
+    GMRES with the multigrid preconditioner of :mod:`efgkit.system.krylov_mlpg`, whose nodal
+    data :func:`mlpg_auxiliary` gives on demand).
 
     Examples
     --------
