@@ -55,7 +55,8 @@ CYCLE = 40  # GMRES restart length (inner iterations per cycle)
 MAX_ITERATIONS = 120
 # A cycle must reduce the residual by at least this factor, or the solve stops as stagnant.
 # Cubic-spline weight, unit plate: 22-23 iterations to 1e-9 at 3.4k and 13k unknowns (about
-# 1e-4 per 40 iterations at worst); Gaussian k = 2 default, h = 1/24: 1.1e-3 after 40 and 80.
+# 1e-4 per 40 iterations at worst); Gaussian k = 2 default, h = 1/24: 1.1e-3 after 80 iterations,
+# less than 10x below the first cycle's.
 STAGNATION = 0.1
 # After the residual meets rtol, cycles continue (tighter) until error_estimate <= ESTIMATE_FACTOR
 # * rtol: on the clamped SENT (cubic weight, 0.9k-2.5k unknowns) a residual of 2e-9 left the
