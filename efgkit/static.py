@@ -44,7 +44,7 @@ from .system.linalg import solve as linear_solve
 from .timing import Stopwatch
 
 __all__ = ["DEFAULT_PENALTY", "DEFAULT_STABILISATION", "LOCKING_PENALTY", "auxiliary_space",
-           "constrained_system", "large_system_bc", "solve", "solve_mlpg"]
+           "constrained_system", "large_system_bc", "mlpg_auxiliary", "solve", "solve_mlpg"]
 
 # beta h / E of the penalty method. Its consistency error falls like E / (beta h), but
 # beta -> infinity is a Lagrange method with one multiplier per boundary Gauss point,
@@ -212,7 +212,9 @@ def solve_mlpg(scene: Scene, method: MLPG, disc: Discretization | None = None) -
     :func:`~efgkit.system.constraints.eliminate`); "collocation": the equations of the
     essential nodes are replaced by u^h_c(x_I) = ubar_c(x_I)
     (:func:`~efgkit.system.collocation.collocation`). The unsymmetric system goes to
-    :func:`~efgkit.system.krylov.solve_unsymmetric` (SuperLU, GMRES or BiCGSTAB).
+    :func:`~efgkit.system.krylov.solve_unsymmetric` (SuperLU, GMRES or BiCGSTAB with ILU, or
+    GMRES with the multigrid preconditioner of :mod:`efgkit.system.krylov_mlpg`, whose nodal
+    data :func:`mlpg_auxiliary` gives on demand).
 
     Examples
     --------
@@ -249,12 +251,28 @@ def solve_mlpg(scene: Scene, method: MLPG, disc: Discretization | None = None) -
         else:  # collocation checks the rows for rigid-body modes itself
             system = collocation(K, f, _nodal_rows(disc, dofs), vals, dofs, disc.nodes.x)
     sw.lap("constraints")
-    z, info = solve_unsymmetric(system, m.solver)
+    z, info = solve_unsymmetric(system, m.solver, auxiliary=lambda: mlpg_auxiliary(disc, m.bc))
     coefficients = system.coefficients(z)
     sw.lap("solve")
     timings = sw.timings | {"total": time.perf_counter() - t_all}
     return MeshlessSolution(disc, coefficients, info, timings,
                             resolve=lambda coarse: solve(scene, coarse))
+
+
+def mlpg_auxiliary(disc: Discretization, bc: str):
+    """The nodal data of the MLPG multigrid preconditioner (:mod:`efgkit.system.krylov_mlpg`):
+    :func:`auxiliary_space` and the coefficients whose rows are boundary rows -- both components
+    of the nodes whose discs carry the penalty term (bc="penalty") or of the essential nodes
+    (bc="collocation": their rows are replaced); none for "modified_mls" (eliminated)."""
+    loc = disc.local
+    if bc == "penalty":
+        hit = loc.fixed.any(axis=1) & (True if loc.penalised is None else loc.penalised)
+        nodes = np.unique(loc.points.owner[hit])
+    elif bc == "collocation":
+        nodes = np.unique(eliminated_dofs(disc)[0] // 2)
+    else:
+        nodes = np.zeros(0, dtype=np.int64)
+    return auxiliary_space(disc), (2 * nodes[:, None] + np.arange(2)).ravel()
 
 
 def _fixed_operator(loc) -> csr_array:

@@ -64,7 +64,7 @@ def test_krylov_solvers_reach_tolerance():
     ({"test_radius": 3.0}, "test_radius"),
     ({"quadrature": "simpson"}, "quadrature must be one of"),
     ({"bc": "lagrange"}, "bc must be one of"),
-    ({"solver": "amg"}, "solver must be one of"),
+    ({"solver": "multigrid"}, "solver must be one of"),
     ({"weight_k": 0}, "weight_k must be"),
     ({"radial": 1.5}, "radial must be an integer"),
 ])

@@ -41,7 +41,7 @@ MLPG_BC_METHODS = ("penalty", "modified_mls", "collocation")
 EXPLICIT_WEIGHTS = ("auto", "same", *WEIGHTS)  # MLPG.explicit_weight
 EXPLICIT_FORMS = ("petrov_galerkin", "galerkin")  # MLPG.explicit_form
 MLPG_QUADRATURES = ("midpoint", "gauss")
-MLPG_SOLVERS = ("auto", "direct", "gmres", "bicgstab")
+MLPG_SOLVERS = ("auto", "direct", "gmres", "bicgstab", "amg")
 
 
 @dataclass(frozen=True, eq=False)
@@ -106,8 +106,10 @@ class MLPG(MeshlessChoices):
         u^h(x_I) = ubar(x_I) replacing the equations of the essential nodes.
     penalty : float, optional
         alpha in units of E / h (default 1e3).
-    solver : {"auto", "direct", "gmres", "bicgstab"}
-        SuperLU, or a Krylov solver with an ILU preconditioner (the system is unsymmetric).
+    solver : {"auto", "direct", "gmres", "bicgstab", "amg"}
+        SuperLU, or a Krylov solver with an ILU preconditioner (the system is unsymmetric),
+        or ("amg") GMRES with the multigrid preconditioner of :mod:`efgkit.system.krylov_mlpg`;
+        "auto" above 60k unknowns tries "amg", then ILU-GMRES, then SuperLU (reported).
     crack_rule, rule_power, hole_rule, kappa :
         How trial supports see cracks and holes, as for EFG (seed 002: visibility).
         The test discs are always clipped to the part visible from their node.

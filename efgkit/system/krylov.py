@@ -3,7 +3,9 @@ preconditioner, every answer checked against its residual.
 
 The MLPG1 stiffness is not symmetric (test != trial functions), so CG and the SPD
 multigrid of :mod:`efgkit.system.linalg` do not apply. ``"auto"`` takes SuperLU up to
-:data:`AUTO_KRYLOV_THRESHOLD` unknowns and GMRES above.
+:data:`AUTO_KRYLOV_THRESHOLD` unknowns and GMRES above: first with the multigrid
+(auxiliary-space) preconditioner of :mod:`efgkit.system.krylov_mlpg` when the caller gives
+the nodal data, then, if that stagnates, with ILU, then SuperLU; each fallback is reported.
 """
 
 from __future__ import annotations
@@ -21,17 +23,18 @@ from .linalg import solve as linalg_solve
 __all__ = ["solve_unsymmetric", "AUTO_KRYLOV_THRESHOLD", "KRYLOV_SOLVERS"]
 
 AUTO_KRYLOV_THRESHOLD = 60_000  # unknowns above which "auto" takes GMRES
-KRYLOV_SOLVERS = ("auto", "direct", "gmres", "bicgstab")
+KRYLOV_SOLVERS = ("auto", "direct", "gmres", "bicgstab", "amg")
 MAX_ITERATIONS = 2000
 
 
 def solve_unsymmetric(system: LinearSystem, solver: str = "auto", rtol: float = 1e-8,
-                      drop_tol: float = 1e-5, fill_factor: float = 20.0) -> tuple[np.ndarray, dict]:
+                      drop_tol: float = 1e-5, fill_factor: float = 20.0,
+                      auxiliary=None) -> tuple[np.ndarray, dict]:
     """Solve the unsymmetric ``system``; returns (z, info).
 
     Parameters
     ----------
-    solver : {"auto", "direct", "gmres", "bicgstab"}
+    solver : {"auto", "direct", "gmres", "bicgstab", "amg"}
         SuperLU (column ordering COLAMD, partial pivoting), or a Krylov method
         (restarted GMRES(50), BiCGSTAB) preconditioned by ILU (``spilu`` with
         ``drop_tol``, ``fill_factor``, the minimum-degree ordering of A + A^T and diagonal
@@ -46,9 +49,16 @@ def solve_unsymmetric(system: LinearSystem, solver: str = "auto", rtol: float = 
         unknowns 12 iterations (setup 47 s, 12.5 nnz(K)); 201k unknowns (100k nodes) 13
         iterations, residual 2.6e-10 (setup 209 s, GMRES 13 s, nnz(L + U) = 229 M, 15.5
         nnz(K), about 2.7 GB).
-        ``"auto"`` falls back to SuperLU when the Krylov solve fails (``info["fallback"]``).
+        ``"amg"``: GMRES with the multigrid preconditioner of :mod:`efgkit.system.krylov_mlpg`
+        (needs ``auxiliary``); SolverError if it stagnates or misses ``rtol``. ``"auto"``
+        above the threshold tries that first (given ``auxiliary``), then ILU-GMRES, then
+        SuperLU, and says why in ``info["fallback"]``.
     rtol : float
         Required relative residual ||A z - b|| / ||b||.
+    auxiliary : callable ``() -> (AuxiliarySpace, layer)``, optional
+        The nodal data and the boundary-row coefficients of
+        :func:`~efgkit.system.krylov_mlpg.surrogate_preconditioner`; called only when the
+        multigrid preconditioner is tried.
 
     Returns
     -------
@@ -70,11 +80,19 @@ def solve_unsymmetric(system: LinearSystem, solver: str = "auto", rtol: float = 
     """
     if solver not in KRYLOV_SOLVERS:
         raise ValueError(f"solver must be one of {KRYLOV_SOLVERS}, got {solver!r}")
+    if solver == "amg" and auxiliary is None:
+        raise ValueError("solver='amg' needs auxiliary (the nodal data of the multigrid "
+                         "preconditioner, given by efgkit.static.solve_mlpg): use solver='gmres'")
     A, b = csr_array(system.A), system.b
     n = A.shape[0]
     if solver == "direct" or (solver == "auto" and n <= AUTO_KRYLOV_THRESHOLD):
         return linalg_solve(LinearSystem(A, b, False, system.n_coeffs, system.free,
                                          system.fixed_values), "direct", rtol=rtol)
+    first = None
+    if solver == "amg" or (solver == "auto" and auxiliary is not None):
+        z, first = _amg(system, auxiliary, rtol, solver)
+        if z is not None:
+            return z, first
     bnorm = float(np.linalg.norm(b))
     kind = "gmres" if solver == "auto" else solver
     if bnorm == 0.0:
@@ -115,15 +133,41 @@ def solve_unsymmetric(system: LinearSystem, solver: str = "auto", rtol: float = 
         tol *= 0.01
     info = {"solver": kind, "iterations": count[0], "preconditioner": "ilu",
             "setup_time": setup, "krylov_time": time.perf_counter() - t0}
+    if first is not None:
+        info.update(first)
     if not np.all(np.isfinite(z)):
         raise SolverError(f"{kind} produced NaN or inf: the system is singular or overflowed")
     res = float(np.linalg.norm(A @ z - b)) / bnorm
     info["residual"] = res
     if not res <= rtol and solver == "auto":
         z, direct = linalg_solve(LinearSystem(A, b, False, system.n_coeffs), "direct", rtol=rtol)
-        return z, {**info, **direct, "fallback": f"{kind} reached {res:.1e} in {count[0]} iterations"}
+        why = f"{kind} reached {res:.1e} in {count[0]} iterations"
+        return z, {**info, **direct, "fallback": f"{info['fallback']}; {why}" if first else why}
     if not res <= rtol:
         raise SolverError(
             f"relative residual {res:.2e} exceeds {rtol:.0e} after {count[0]} {kind} iterations "
             f"({n} unknowns, flag {flag}). Remedy: solver='direct', or the other Krylov solver")
     return z, info
+
+
+def _amg(system, auxiliary, rtol, solver):
+    """GMRES with the multigrid preconditioner (:func:`~efgkit.system.krylov_mlpg.amg_gmres`):
+    (z, info) when it met ``rtol``; else SolverError for solver="amg", or (None, info with
+    the reason in ``fallback``) for "auto"."""
+    from .krylov_mlpg import amg_gmres
+
+    space, layer = auxiliary()
+    z, info = amg_gmres(system, space, layer, rtol)
+    if info["converged"]:
+        return z, info
+    why = (f"multigrid-preconditioned GMRES {'stagnated at' if info['stagnated'] else 'reached'} "
+           f"relative residual {info['residual']:.1e} after {info['iterations']} iterations")
+    if info["iterations"] == 0:
+        why = ("multigrid-preconditioned GMRES not tried: the MLS nodal matrix is negative on the "
+               f"checkerboard (Rayleigh quotient {info['checkerboard']:.2g} <= 0)")
+    if solver == "amg":
+        raise SolverError(f"solver='amg': {why} ({system.A.shape[0]} unknowns). The MLS nodal "
+                          "matrix is probably not positive on high-frequency modes (module "
+                          "efgkit.system.krylov_mlpg). Remedy: solver='gmres' (ILU) or 'direct', or an MLS "
+                          "weight whose nodal matrix is positive (weight='cubic')")
+    return None, {"amg_iterations": info["iterations"], "amg_residual": info["residual"], "fallback": why}
