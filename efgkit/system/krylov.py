@@ -154,7 +154,7 @@ def _amg(system, auxiliary, rtol, solver):
     """GMRES with the multigrid preconditioner (:func:`~efgkit.system.krylov_mlpg.amg_gmres`):
     (z, info) when it met ``rtol``; else SolverError for solver="amg", or (None, info with
     the reason in ``fallback``) for "auto"."""
-    from .krylov_mlpg import amg_gmres
+    from .krylov_mlpg import CHECKERBOARD_MIN, amg_gmres
 
     space, layer = auxiliary()
     z, info = amg_gmres(system, space, layer, rtol)
@@ -163,8 +163,9 @@ def _amg(system, auxiliary, rtol, solver):
     why = (f"multigrid-preconditioned GMRES {'stagnated at' if info['stagnated'] else 'reached'} "
            f"relative residual {info['residual']:.1e} after {info['iterations']} iterations")
     if info["iterations"] == 0:
-        why = ("multigrid-preconditioned GMRES not tried: the MLS nodal matrix is negative on the "
-               f"checkerboard (Rayleigh quotient {info['checkerboard']:.2g} <= 0)")
+        why = ("multigrid-preconditioned GMRES not tried: the MLS nodal matrix is not clearly positive "
+               f"on the checkerboard (Rayleigh quotient {info['checkerboard']:.2g} < "
+               f"{CHECKERBOARD_MIN})")
     if solver == "amg":
         raise SolverError(f"solver='amg': {why} ({system.A.shape[0]} unknowns). The MLS nodal "
                           "matrix is probably not positive on high-frequency modes (module "
