@@ -63,6 +63,25 @@ def _radii(r) -> np.ndarray:
     return r
 
 
+def _fit_radii(r, degree) -> np.ndarray:
+    """The distances ``r`` (n,) of a degree-``degree`` fit in r, checked."""
+    r = _radii(r)
+    if isinstance(degree, bool) or not isinstance(degree, (int, np.integer)) or degree < 0:
+        raise ValueError(f"degree must be an integer >= 0, got {degree!r}")
+    if len(np.unique(r)) < degree + 1:
+        raise ValueError(f"a degree-{degree} fit needs at least {degree + 1} distinct distances, got "
+                         f"{len(np.unique(r))}: give more points on the ray or a lower degree")
+    return r
+
+
+def _value_at_tip(r: np.ndarray, KI, KII, degree: int) -> tuple[float, float]:
+    """Least-squares polynomials of degree ``degree`` in r through the apparent ``K_I(r)``,
+    ``K_II(r)`` (n,), evaluated at r = 0."""
+    V = np.vander(r, degree + 1, increasing=True)
+    coef = np.linalg.lstsq(V, np.column_stack([KI, KII]), rcond=None)[0]
+    return float(coef[0, 0]), float(coef[0, 1])
+
+
 def _tip(tip) -> Tip:
     if not isinstance(tip, Tip):
         raise TypeError(f"tip must be an efgkit.problem.crack.Tip, got {type(tip).__name__}")
@@ -214,16 +233,9 @@ def fitted_near_tip_sif(tip: Tip, r, stress, theta: float = 0.0, degree: int = 1
     >>> [round(k, 12) for k in fitted_near_tip_sif(t, r, s)]
     [2.0, 0.5]
     """
-    r = _radii(r)
-    if isinstance(degree, bool) or not isinstance(degree, (int, np.integer)) or degree < 0:
-        raise ValueError(f"degree must be an integer >= 0, got {degree!r}")
-    if len(np.unique(r)) < degree + 1:
-        raise ValueError(f"a degree-{degree} fit needs at least {degree + 1} distinct distances, got "
-                         f"{len(np.unique(r))}: give more points on the ray or a lower degree")
-    KI, KII = k_from_stress(tip, r, stress, theta, speed=speed, material=material)
-    V = np.vander(r, degree + 1, increasing=True)
-    coef = np.linalg.lstsq(V, np.column_stack([KI, KII]), rcond=None)[0]
-    return float(coef[0, 0]), float(coef[0, 1])
+    r = _fit_radii(r, degree)
+    return _value_at_tip(r, *k_from_stress(tip, r, stress, theta, speed=speed, material=material),
+                         degree)
 
 
 def k_from_symmetric_rays(tip: Tip, r, stress_plus, stress_minus,
@@ -345,14 +357,6 @@ def cod_sif(tip: Tip, r, upper, lower, material: Elastic, degree: int = 1) -> tu
     >>> [round(k, 12) for k in cod_sif(t, r, up, lo, m)]
     [2.0, 0.0]
     """
-    r = _radii(r)
-    if isinstance(degree, bool) or not isinstance(degree, (int, np.integer)) or degree < 0:
-        raise ValueError(f"degree must be an integer >= 0, got {degree!r}")
-    if len(np.unique(r)) < degree + 1:
-        raise ValueError(f"a degree-{degree} fit needs at least {degree + 1} distinct distances, got "
-                         f"{len(np.unique(r))}")
-    KI, KII = k_from_cod(tip, r, upper, lower, material)
-    V = np.vander(r, degree + 1, increasing=True)
-    coef = np.linalg.lstsq(V, np.column_stack([KI, KII]), rcond=None)[0]
-    return float(coef[0, 0]), float(coef[0, 1])
+    r = _fit_radii(r, degree)
+    return _value_at_tip(r, *k_from_cod(tip, r, upper, lower, material), degree)
 
