@@ -11,7 +11,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "efgkit"
 # Stages from the bottom up; a module may import from its own stage and the ones below.
 # The most specific prefix decides a module's stage. Keep in step with docs/architecture.md.
 STAGES = [
-    ("problem", "timing", "jit", "tables"),                     # what is solved; clocks,
+    ("problem", "timing", "jit", "tables", "memory"),           # what is solved; clocks,
                                                                 # backends; TOML table keys
     ("methods", "methods.efg", "methods.mlpg", "scenefile",      # method descriptions, files,
      "gallery"),                                                # canonical specimens
