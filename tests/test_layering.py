@@ -20,7 +20,7 @@ STAGES = [
     ("system",),                                                # K, f, M; constraints; solvers
     ("methods.discretize", "methods.local", "methods.local_nodes", "methods.local_size",
      "methods.boundary", "methods.size", "methods.crack_choices"),  # scene + method -> discrete
-    ("io", "plot", "vtu", "sampling"),                          # files and figures of results
+    ("io", "plot", "vtu", "sampling", "sif_plot"),              # files and figures of results
     ("solution", "meshless_solution"),                          # the result contract
     ("static", "explicit", "fem", "loadcases"),                 # drivers and the FE reference
     ("growth",),                                                # step loops over the drivers
