@@ -8,17 +8,17 @@ random perturbation of the interior nodes.
 from __future__ import annotations
 
 import math
-import os
 from dataclasses import dataclass, replace
 
 import numpy as np
 from scipy.spatial import cKDTree
 
+from .memory import ALWAYS_ALLOWED, FALLBACK_MEMORY, available_memory, check_memory  # noqa: F401 (re-exported)
 from .methods.efg import EFG
 from .problem.geometry import Domain
 
 __all__ = ["NodeCloud", "generate_nodes", "support_radii", "NodeEstimate", "estimate_nodes",
-           "area_in_disc", "available_memory", "check_memory"]
+           "area_in_disc", "available_memory", "check_memory"]  # the last two from efgkit.memory
 
 # Size guard. Node generation holds about 300 bytes per point of its grids at its peak (the
 # bounding-box grid, the local-spacing and boundary-distance arrays, the k-d tree of the
@@ -26,8 +26,6 @@ __all__ = ["NodeCloud", "generate_nodes", "support_radii", "NodeEstimate", "esti
 # node at 19,881 and at 320,356 nodes (301 B perturbed, 295 B with a zone), plus up to
 # 0.15 GB of chunked boundary distances on curved boundaries, which the floor covers.
 GRID_POINT_BYTES = 300.0
-FALLBACK_MEMORY = 8e9  # bytes assumed available when the machine does not say
-ALWAYS_ALLOWED = 2e9  # estimates below this pass whatever the machine reports
 
 
 @dataclass(frozen=True, eq=False)
@@ -148,46 +146,6 @@ def area_in_disc(domain: Domain, centre, radius: float) -> float:
     d = np.column_stack([a.ravel() for a in np.meshgrid(u, u)])
     d = d[np.hypot(*d.T) <= 1]
     return math.pi * radius**2 * float(domain.contains(np.asarray(centre) + radius * d).mean())
-
-
-def available_memory() -> tuple[float, str]:
-    """Bytes of memory a new allocation can take, and where the figure comes from:
-    ``MemAvailable`` of ``/proc/meminfo`` (capped by a cgroup v2 ``memory.max``), else
-    ``os.sysconf`` free pages, else :data:`FALLBACK_MEMORY`."""
-    found = None
-    try:
-        with open("/proc/meminfo") as f:
-            kb = [line.split()[1] for line in f if line.startswith("MemAvailable:")]
-        found = float(kb[0]) * 1024, "MemAvailable in /proc/meminfo"
-    except (OSError, ValueError, IndexError):
-        try:
-            found = (float(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")),
-                     "free pages from os.sysconf")
-        except (AttributeError, ValueError, OSError):
-            return FALLBACK_MEMORY, "a fixed limit: this machine does not report its memory"
-    try:  # a container's limit
-        with open("/sys/fs/cgroup/memory.max") as f, open("/sys/fs/cgroup/memory.current") as g:
-            free = float(f.read()) - float(g.read())  # ValueError for "max": no limit
-        if free < found[0]:
-            found = max(free, 0.0), "the cgroup's memory.max"
-    except (OSError, ValueError):
-        pass
-    return found
-
-
-def check_memory(need: float, what: str, remedy: str) -> None:
-    """Raise ValueError if the estimated peak ``need`` (bytes) exceeds :func:`available_memory`;
-    below :data:`ALWAYS_ALLOWED` it always passes. The message is ``what`` (what was estimated
-    from which arguments), the memory, then ``remedy``, where ``{factor}`` becomes the
-    coarsening that would fit (memory falls like spacing^2)."""
-    if need <= ALWAYS_ALLOWED:
-        return
-    have, source = available_memory()
-    if need > have:
-        factor = math.sqrt(need / max(have, ALWAYS_ALLOWED))
-        raise ValueError(f"{what}: about {need / 1e9:.3g} GB in all, more than the "
-                         f"{have / 1e9:.3g} GB of memory available ({source}). "
-                         + remedy.format(factor=factor))
 
 
 def _without_auto_zones(method: EFG) -> EFG:

@@ -11,7 +11,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "efgkit"
 # Stages from the bottom up; a module may import from its own stage and the ones below.
 # The most specific prefix decides a module's stage. Keep in step with docs/architecture.md.
 STAGES = [
-    ("problem", "timing", "jit", "tables"),                     # what is solved; clocks,
+    ("problem", "timing", "jit", "tables", "memory"),           # what is solved; clocks,
                                                                 # backends; TOML table keys
     ("methods", "methods.efg", "methods.mlpg", "scenefile",      # method descriptions, files,
      "gallery"),                                                # canonical specimens
@@ -20,7 +20,7 @@ STAGES = [
     ("system",),                                                # K, f, M; constraints; solvers
     ("methods.discretize", "methods.local", "methods.local_nodes", "methods.local_size",
      "methods.boundary", "methods.size", "methods.crack_choices"),  # scene + method -> discrete
-    ("io", "plot", "vtu"),                                      # files and figures of results
+    ("io", "plot", "vtu", "sampling", "sif_plot"),              # files and figures of results
     ("solution", "meshless_solution"),                          # the result contract
     ("static", "explicit", "fem", "loadcases"),                 # drivers and the FE reference
     ("growth",),                                                # step loops over the drivers

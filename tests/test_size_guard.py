@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-import efgkit.nodes as nodes_module
+import efgkit.memory as memory_module
 from efgkit import EFG, Crack, Domain, Elastic, Rosette, Scene, Zone
 from efgkit.methods.discretize import discretize
 from efgkit.methods.size import size_estimate
@@ -40,14 +40,14 @@ def test_the_message_names_the_zone_that_is_too_fine():
 
 
 def test_check_memory_against_the_machine(monkeypatch):
-    monkeypatch.setattr(nodes_module, "available_memory", lambda: (2.5e9, "a test"))
+    monkeypatch.setattr(memory_module, "available_memory", lambda: (2.5e9, "a test"))
     check_memory(2.4e9, "x", "y")
     check_memory(0.9 * ALWAYS_ALLOWED, "x", "y")
     with pytest.raises(ValueError, match=r"^w: about 3 GB in all, more than the 2\.5 GB of memory "
                                          r"available \(a test\)\. r 1\.1$"):
         check_memory(3e9, "w", "r {factor:.2g}")
     # below the floor nothing is refused, whatever the machine reports
-    monkeypatch.setattr(nodes_module, "available_memory", lambda: (1e6, "a test"))
+    monkeypatch.setattr(memory_module, "available_memory", lambda: (1e6, "a test"))
     check_memory(0.99 * ALWAYS_ALLOWED, "x", "y")
 
 
@@ -64,7 +64,7 @@ def test_available_memory_falls_back(monkeypatch):
     def no_sysconf(name):
         raise ValueError(name)
 
-    monkeypatch.setattr(nodes_module.os, "sysconf", no_sysconf)
+    monkeypatch.setattr(memory_module.os, "sysconf", no_sysconf)
     assert available_memory() == (FALLBACK_MEMORY, "a fixed limit: this machine does not report its "
                                                    "memory")
 

@@ -175,11 +175,14 @@ def cmd_run(args) -> int:
 
 def _run_dynamic(args, path: Path, scene, method, out: Path, name: str) -> int:
     """``efgkit run`` of a dynamic scene: central differences, histories and their files."""
-    from ..explicit import integrate, load_stepping
+    from ..explicit import dynamics, integrate, load_stepping
+    from ..explicit.dsif_table import load_dsif
 
     with stage(f"{path}: cannot integrate", f"{path}: the time integration failed"):
         stepping = load_stepping(path)
-        sol = integrate(scene, method, stepping, out=out / "vtu")
+        settings = load_dsif(path)  # [dsif]: enrichment mass, J' acceleration recovery
+        dyn = dynamics(scene, method, enrichment_mass=settings.enrichment_mass)
+        sol = integrate(scene, method, stepping, dyn=dyn, dsif=settings.dsif, out=out / "vtu")
     try:
         rec = sol.write(out, name)
     except OSError as err:

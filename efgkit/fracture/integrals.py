@@ -54,81 +54,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..problem.crack import Tip
-from ..problem.frames import rotate_gradient, rotate_vectors, rotate_voigt
+from ..problem.frames import rotate_gradient, rotate_voigt
 from ..problem.material import Elastic, strain_from_gradient, voigt_tensor
 from .auxiliary_fields import auxiliary_fields
+from .faces import AT_TIP, FaceLoad, face_terms, real_array
 from .qfunctions import QFunction
 
 __all__ = ["SIF", "FaceLoad", "Integrands", "contract", "domain_integrals", "domain_integrands",
            "k_from_j", "real_array"]
-
-
-_AT_TIP = 1e-12  # points closer than this times r_out to the tip are at the tip
-
-
-def real_array(name: str, v, shape: tuple) -> np.ndarray:
-    """``v`` as a float array of ``shape`` (-1: any length, checked by the caller)."""
-    try:
-        a = np.asarray(v, dtype=float)
-    except (TypeError, ValueError) as err:
-        raise TypeError(f"{name} must be a real array of shape {shape}, got {type(v).__name__}") from err
-    if a.ndim != len(shape) or any(s not in (-1, t) for s, t in zip(shape, a.shape, strict=True)):
-        want = "(" + ", ".join("n" if s == -1 else str(s) for s in shape) + ")"
-        raise ValueError(f"{name} must have shape {want}, got {a.shape}")
-    return a
-
-
-@dataclass(frozen=True, eq=False)
-class FaceLoad:
-    """Quadrature points on loaded crack faces near a tip.
-
-    Attributes
-    ----------
-    x : ndarray (m, 2)
-        Points on the tip's crack faces (behind the tip, on its crack line).
-    w : ndarray (m,)
-        Line weights (lengths).
-    traction : ndarray (m, 2)
-        Traction applied to the body, global components: ``sigma . n`` with
-        ``n`` the body's outward normal (a pressure ``p`` on the upper face is
-        ``+p e2`` of the tip frame, on the lower face ``-p e2``).
-    grad_u : ndarray (m, 2, 2)
-        Displacement gradient of the solution on that face, global (used by
-        J; the interaction integrals need only the traction).
-    side : ndarray (m,) of +1 / -1
-        +1 for the upper face (``theta = +pi``, left of the crack seen from
-        behind the tip), -1 for the lower face.
-
-    Notes
-    -----
-    The face integrands behave like ``r^{-1/2}`` at the tip: use a rule that
-    integrates that well. Measured for the pressurised Griffith crack
-    (``r_out = a / 2``): Gauss-Legendre in ``s`` with ``r = s^2`` gives K to
-    1e-14 with 8 points per face; plain Gauss-Legendre in ``r`` converges
-    like ``1 / n`` (K off by 3.3% with 8 points, 0.9% with 30, 0.46% with 60).
-    """
-
-    x: np.ndarray
-    w: np.ndarray
-    traction: np.ndarray
-    grad_u: np.ndarray
-    side: np.ndarray
-
-    def __post_init__(self):
-        x = real_array("FaceLoad.x", self.x, (-1, 2))
-        m = len(x)
-        arrays = {"x": x, "w": real_array("FaceLoad.w", self.w, (m,)),
-                  "traction": real_array("FaceLoad.traction", self.traction, (m, 2)),
-                  "grad_u": real_array("FaceLoad.grad_u", self.grad_u, (m, 2, 2)),
-                  "side": real_array("FaceLoad.side", self.side, (m,))}
-        for name, a in arrays.items():
-            if not np.all(np.isfinite(a)):
-                raise ValueError(f"FaceLoad.{name} must be finite; entry {np.argwhere(~np.isfinite(a))[0]}"
-                                 " is not")
-            object.__setattr__(self, name, a)
-        if not np.all(np.isin(arrays["side"], (-1.0, 1.0))):
-            raise ValueError("FaceLoad.side must hold +1 (upper face) or -1 (lower face), got "
-                             f"{np.unique(arrays['side']).tolist()}")
 
 
 @dataclass(frozen=True)
@@ -180,36 +113,6 @@ def k_from_j(J: float, material: Elastic) -> float:
     if not (math.isfinite(J) and J >= 0):
         raise ValueError(f"J must be finite and >= 0 to give K = sqrt(E' J), got {J!r}")
     return math.sqrt(material.E_prime * J)
-
-
-def _face_terms(faces: FaceLoad, tip: Tip, material: Elastic, q: QFunction):
-    """J face term, interaction face terms (3,) and sigma_22^0 at the tip from the face loads."""
-    Q = tip.rotation
-    d = (faces.x - tip.x) @ Q.T
-    r = np.hypot(d[:, 0], d[:, 1])
-    inside = r < q.r_out
-    tol = 1e-6 * q.r_out
-    bad = inside & ((d[:, 0] > tol) | (np.abs(d[:, 1]) > tol))
-    if np.any(bad):
-        i = int(np.argmax(bad))
-        raise ValueError(f"face point {i} {faces.x[i].tolist()} is not on the crack line behind tip "
-                         f"{tip.id} (tip-frame position {d[i].round(12).tolist()}); give crack-face "
-                         "points of this tip's last segment")
-    if not np.any(inside):
-        return 0.0, np.zeros(3), 0.0
-    qv = q.value(faces.x[inside], tip)
-    t = rotate_vectors(faces.traction[inside], -tip.angle)
-    g = rotate_gradient(faces.grad_u[inside], -tip.angle)
-    w = faces.w[inside] * qv
-    J = -np.sum(w * np.einsum("mi,mi->m", t, g[:, :, 0]))
-    ri, side = r[inside], faces.side[inside]
-    ok = ri > _AT_TIP * q.r_out  # at the tip itself the auxiliary fields are singular
-    _, ga = auxiliary_fields(ri[ok], side[ok] * np.pi, material)
-    I = -np.einsum("m,mi,kmi->k", w[ok], t[ok], ga[:, :, :, 0])
-    # normal stress at the tip from the face pressure nearest to it, both faces averaged
-    near = [np.flatnonzero(side == s_) for s_ in (1.0, -1.0)]
-    s22 = [-s_ * t[k[np.argmin(ri[k])], 1] for s_, k in zip((1.0, -1.0), near, strict=True) if len(k)]
-    return J, I, float(np.mean(s22))
 
 
 def domain_integrals(x, w, stress, grad_u, tip: Tip, material: Elastic, q: QFunction,
@@ -331,9 +234,9 @@ def domain_integrands(x, w, stress, grad_u, tip: Tip, material: Elastic, r_max: 
     grad_u = real_array("grad_u", grad_u, (n, 2, 2))
     d = (x - tip.x) @ tip.rotation.T  # tip-frame coordinates
     r = np.hypot(d[:, 0], d[:, 1])
-    sel = np.flatnonzero((r < r_max) & (r > _AT_TIP * r_max))
+    sel = np.flatnonzero((r < r_max) & (r > AT_TIP * r_max))
     if len(sel) == 0:
-        _no_points(tip, r_max, r[r > _AT_TIP * r_max])
+        _no_points(tip, r_max, r[r > AT_TIP * r_max])
     for name, a in (("x", x), ("w", w), ("stress", stress), ("grad_u", grad_u)):
         bad = ~np.isfinite(a[sel].reshape(len(sel), -1)).all(axis=1)
         if np.any(bad):
@@ -392,7 +295,7 @@ def contract(integrands: Integrands, q: QFunction, faces: FaceLoad | None = None
     I = np.einsum("kmj,mj->k", c[1:], dq)
     s22 = 0.0
     if faces is not None:
-        Jf, If, s22 = _face_terms(faces, tip, it.material, q)
+        Jf, If, s22 = face_terms(faces, tip, it.material, q)
         J, I = J + Jf, I + If
     Ep = it.material.E_prime
     gq = np.hypot(dq[:, 0], dq[:, 1])

@@ -240,7 +240,8 @@ SCHEMA: dict[str, tuple[type, tuple[str, ...], dict[str, Callable | None]]] = {
         "point_supports": _many("point_supports"), "symmetry": _one("symmetry"), "efg": None,
         "time": None, "growth": None, "body_force_history": history_from_dict,
         "initial_displacement": _vector, "initial_velocity": _vector, "method": None,
-        "mlpg": None, "load_cases": None, "grading": _one("grading")}),
+        "mlpg": None, "load_cases": None, "grading": _one("grading"),
+        "dsif": None}),  # [dsif]: efgkit.explicit.dsif_table
     "material": (Elastic, ("E", "nu"), {"E": _num, "nu": _num, "plane": _str, "rho": _num}),
     "domain": (Domain, ("outer",), {"outer": _loop, "holes": _many("holes", _loop)}),
     "supports": (Support, ("edge",), {"edge": _str, "ux": _scalar, "uy": _scalar,
@@ -286,7 +287,11 @@ def scene_from_dict(d: dict) -> Scene:
         Naming the key path (see the module docstring).
     """
     check_finite(d, "")
-    return _table(with_time_table(d), "", "")  # [time] carries the duration of a dynamic scene
+    scene = _table(with_time_table(d), "", "")  # [time] carries the duration of a dynamic scene
+    if "dsif" in d and scene.is_static:
+        raise ValueError("a [dsif] table sets the dynamic SIFs of an explicit run, and this scene "
+                         "is static: add a [time] table or remove [dsif]")
+    return scene
 
 
 def efg_from_dict(d: dict, path: str = "efg") -> EFG:
