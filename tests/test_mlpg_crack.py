@@ -216,7 +216,8 @@ def test_shear_edge_crack_extrinsic_h03():
     k = solve(gallery.shear_edge_crack(), MLPG(spacing=0.3, d_max=3.0, crack_rule="diffraction",
                                                enrichment="extrinsic_mls")).sifs(error=False)[0]
     # Wilson 1969 via seed 003 Sect. 5.6.2: K_I = 34.0, K_II = 4.55. Measured 34.054 (+0.16 %),
-    # 4.593 (+0.95 %) with the tip-disc rule (methods.local_tips; 34.06, 4.77 without); the seed's weight (k = 2, r_s = 1.1 h) 34.85 / 4.57, and 18.5 / 3.54 while
+    # 4.593 (+0.95 %) with the tip-disc rule (methods.local_tips; 34.06, 4.77 without); the
+    # seed's weight (k = 2, r_s = 1.1 h) 34.85 / 4.57, and 18.5 / 3.54 while
     # the discs of the nodes off the clamped edge carried the penalty term too (docs/theory.md)
     assert abs(k.KI - 34.0) < 0.005 * 34.0 and abs(k.KII - 4.55) < 0.03 * 4.55
 
@@ -293,3 +294,22 @@ def test_uncracked_shear_plate_defaults(h, bound):
     plate = Scene(sc.domain, sc.material, supports=sc.supports, tractions=sc.tractions)
     u = solve(plate, MLPG(spacing=h, d_max=3.0)).displacement(np.array([[3.5, 16.0]]))[0, 0]
     assert abs(u / 1.18930e-5 - 1) < bound
+
+
+def test_tip_disc_rule_only_with_enrichment():
+    # methods.local_tips: the discs within r_sI + c_I of the tip (3.5, 8) get tip_radial x
+    # tip_angular points when an enrichment is on; the unenriched discretisation is unchanged
+    scene = _uniaxial_cracked()
+    n_pts = {}
+    for enr in ("none", "extrinsic_mls"):
+        for tr in (20, 10):
+            m = MLPG(spacing=0.7, d_max=3.0, crack_rule="diffraction", enrichment=enr, tip_radial=tr)
+            n_pts[enr, tr] = local.discretize_local(scene, m).points.n
+    assert n_pts["none", 20] == n_pts["none", 10]
+    assert n_pts["extrinsic_mls", 20] > n_pts["extrinsic_mls", 10] > n_pts["none", 10]
+
+
+@pytest.mark.parametrize("name", ["tip_radial", "tip_angular"])
+def test_tip_disc_rule_validated(name):
+    with pytest.raises(ValueError, match=name):
+        MLPG(spacing=0.1, **{name: 0})
