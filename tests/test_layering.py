@@ -18,7 +18,7 @@ STAGES = [
     ("nodes", "search", "quadrature", "fracture"),              # points; fields -> K, J
     ("approx",),                                                # shape functions
     ("system",),                                                # K, f, M; constraints; solvers
-    ("methods.discretize", "methods.local", "methods.local_nodes", "methods.local_size",
+    ("methods.discretize", "methods.local", "methods.local_nodes", "methods.local_size", "methods.local_tips",
      "methods.boundary", "methods.size", "methods.crack_choices"),  # scene + method -> discrete
     ("io", "plot", "vtu", "sampling", "sif_plot"),              # files and figures of results
     ("solution", "meshless_solution"),                          # the result contract
