@@ -66,9 +66,8 @@ SENT_EFG_PLAIN = {
                             d_max=2.5, weight="gaussian", alpha=1.25),
 }
 SENT_TABLE = (0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0, 4.5)  # mm: J per single domain
-# Large domains, 0.6-0.9 of a = W - a = 5 mm: the plain variants' J falls with the domain
-# radius (near-tip error), which these leave out (singular patch: the same trend, K within
-# 0.5 % at 0.6-0.9 a on 33 x 33, MLPG plain mode I)
+# Large domains, 0.6-0.9 of a = W - a = 5 mm: the plain quadratic variants' J falls with the
+# domain radius (near-tip error), which these leave out; reported, not checked (see main)
 SENT_LARGE = (3.0, 3.5, 4.0, 4.5)
 
 
@@ -223,10 +222,12 @@ def main(quick: bool = False, out_dir=None) -> dict:
             for v in SENT_MLPG:
                 rep.check(f"SENT {grips} J_error mlpg/{v} {n} across (target 0.3 %)",
                           J_error[f"sent_{grips}/mlpg/{v}/{n}"], "<=", 3e-3)
-            # plain MLPG on the large domains (0.6-0.9 a): measured 0.17 % clamped, 0.20 % axial
-            # in the scratch study of issue 14 (EFG with MLPG's trial space: 0.06 %)
-            rep.check(f"SENT {grips} J_error mlpg/plain {n} across, domains 3-4.5 mm (target 0.3 %)",
-                      J_large[f"sent_{grips}/mlpg/plain/{n}"], "<=", 3e-3)
+            # the plain basis itself reaches the target: EFG with MLPG's trial space (quadratic,
+            # d_max 2.5, Gaussian k = 1, visibility) measured 0.18 % (both grips); plain MLPG's
+            # J_error_large (0.16 % / 0.18 %) is no check: with finer disc rules the same domains
+            # give -0.38 % and -0.98 % (docs/theory.md, MLPG1, "The plain SENT and the J domain")
+            rep.check(f"SENT {grips} J_error efg/plain_quadratic {n} across (target 0.3 %)",
+                      J_error[f"sent_{grips}/efg/plain_quadratic/{n}"], "<=", 3e-3)
     return rep.write(out_dir)
 
 
