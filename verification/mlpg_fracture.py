@@ -147,7 +147,10 @@ def radius_table(m: dict) -> list[str]:
             "on large ones (near-tip error); EFG plain (linear basis, d_max 2) is nearly flat "
             "(its error is global); EFG plain_quadratic has MLPG's trial space (quadratic, "
             "d_max 2.5, Gaussian k = 1) in EFG's Galerkin form. Domains 3-4.5 mm are 0.6-0.9 "
-            "of a = W - a = 5 mm.", "", *rows]
+            "of a = W - a = 5 mm. Plain MLPG's J also moves with the disc rule by ~1 % (4 mm "
+            "domain: +0.14 %, -0.38 %, -0.98 % with Gauss 5 x 8, 10 x 16, 16 x 32; docs/theory.md, "
+            "MLPG1, \"The plain SENT and the J domain\"): its large-domain figures are not converged.",
+            "", *rows]
 
 
 def main(quick: bool = False, out_dir=None) -> dict:
