@@ -1,7 +1,7 @@
 """The J domains of the SENT rows of ``verification/mlpg_fracture.py`` (issue 14): the single
 domains of the radius table hold the headline and the large domains, all of them fit in the
-specimen, and (slow) the plain variants' J falls towards the FEM reference as the domain grows,
-the near-tip error that makes plain MLPG miss 0.3 % on the 1-4 mm domains at 80 nodes across."""
+specimen, the radius table renders, and (slow) plain MLPG's J falls towards the FEM reference as
+the domain grows (near-tip error; docs/theory.md, MLPG1, "The plain SENT and the J domain")."""
 
 import sys
 from pathlib import Path

@@ -20,7 +20,10 @@ N/mm (graded P2 with quarter-point tip elements, h = 0.125 mm, converged to 4e-6
 two meshes), axial-only J = 6.78600 N/mm (the same FEM at h = 0.5 mm, the ``sent``
 investigation; clamped at that mesh differs from the converged value by 2e-5). K_error of a
 SENT row is |K_I / K_ref - 1| with K_ref = sqrt(J_ref E / (1 - nu^2)); J_error is
-|J / J_ref - 1|.
+|J / J_ref - 1|. Beside them EFG's plain visibility variants (linear basis; MLPG's quadratic
+trial space), the J error of every single domain of radius 0.5 ... 4.5 mm (``J_radius``) and
+of the mean over the large domains 3-4.5 mm (``J_error_large``): what limits plain MLPG's J
+(docs/theory.md, MLPG1, "The plain SENT and the J domain").
 """
 
 from __future__ import annotations
