@@ -110,14 +110,14 @@ def against(rev: str, rounds: int, m: int = 80) -> dict:
            "cKDTree": lambda: neighbour_lists(x, nodes, method="kdtree")}
     from efgkit.search import neighbours
 
-    def one_thread():  # this tree with the threshold of the parallel passes above N
-        keep, neighbours.PARALLEL = neighbours.PARALLEL, 1 << 62
+    def threaded():  # this tree's parallel count and fill passes, whatever the thread count
+        keep, neighbours.FUSED_THREADS = neighbours.FUSED_THREADS, 0
         try:
             return run["this tree"]()
         finally:
-            neighbours.PARALLEL = keep
+            neighbours.FUSED_THREADS = keep
     if get_num_threads() > 1:
-        run["this tree, one thread"] = one_thread
+        run[f"this tree, count + fill on {get_num_threads()} threads"] = threaded
     outs = {k: fn() for k, fn in run.items()}  # warm-up (compiles) and the identity check
     same = {k: bool(all(np.array_equal(a, b) for a, b in zip(o, outs["cKDTree"], strict=True)))
             for k, o in outs.items()}
@@ -138,11 +138,13 @@ def against(rev: str, rounds: int, m: int = 80) -> dict:
 NOTE = ("What changed: the members' (x, y, d_mI^2) are packed in box order at registration "
         "(24 bytes per registration, 29 MB for the 1.2M registrations here), so the query reads "
         "a box's candidates as one contiguous run; the points' boxes and the nodes' extent and "
-        "validity are found by compiled loops instead of numpy temporaries; on one thread "
-        "(fewer than 100,000 points, or numba with one thread) count and fill are one pass "
-        "(`kernels.csr_serial`: a chunk's lists in a scratch array, then appended). With two "
-        "threads on this loaded machine the parallel passes gain little over one thread: "
-        "compare the two sections.")
+        "validity are found by compiled loops instead of numpy temporaries. The CSR lists come "
+        "from one fused pass on one thread (`kernels.csr_serial`: each point's neighbours written "
+        "straight into an output grown from the running estimate) below 100,000 points and with "
+        "up to `neighbours.FUSED_THREADS` = 2 numba threads: the parallel count and fill passes "
+        "read every candidate twice, so two threads can at best tie with the fused pass, and on "
+        "this shared machine their barriers wait for a descheduled thread (the row 'count + fill "
+        "on 2 threads').")
 
 
 def against_section(res: dict, cmd: str) -> str:
