@@ -56,6 +56,12 @@ DEFAULT_STABILISATION = 1e2  # beta h / E of the Nitsche term in the variational
 # cantilever (48 x 12, E = 3e7, 6-48 spacings through the depth; and 8 x 2, 16 spacings), SuperLU:
 # 1.00-1.04 at 1e3, 1.1-2.5 at 1e5, 2.2-6.2 at 1e6, 11-68 (energy error 0.10-0.22) from 1e8 to 1e14.
 LOCKING_PENALTY = 1e6
+# From this many domain points on, a solve that discretised the scene itself keeps only the
+# compact derivative operators of its shape functions (Shape.gradients_only) once the
+# stiffness and loads are built: the padded values and derivatives (29 bytes per padded
+# slot, ~1.9 GB at 1e5 nodes of the cracked plate) are not held through the linear solve
+# (docs/performance.md, memory_release).
+RELEASE_POINTS = 200_000
 
 
 def auxiliary_space(disc: Discretization) -> AuxiliarySpace:
@@ -174,6 +180,7 @@ def solve(scene: Scene, method: EFG | MLPG, disc: Discretization | None = None, 
             "(solver='amg') can no longer be trusted either. Remedy: the default penalty=None (1e3), "
             "or bc='lagrange'", UserWarning, stacklevel=2)
     sw.lap("setup")
+    own = disc is None
     if disc is None:  # the discretisation's stages are this call's (a given one's are not)
         disc = discretize(scene, method)
         sw = Stopwatch(disc.timings | {k: v + disc.timings.get(k, 0.0) for k, v in sw.timings.items()})
@@ -181,11 +188,16 @@ def solve(scene: Scene, method: EFG | MLPG, disc: Discretization | None = None, 
     if method is not disc.method and method.bc != disc.method.bc:
         disc = replace(disc, method=method)  # the solution reports the bc it was solved with
     mat, m = scene.material, method
+    if own and disc.points.n >= RELEASE_POINTS and scene.body_force is None:
+        disc = replace(disc, shape=disc.shape.without_values())  # the stiffness needs no values
     K = stiffness(disc.shape, modulus_weights(disc.scene, disc.points.x, disc.points.w), mat.D) \
         if K is None else K
     sw.lap("stiffness")
     f = loads(disc) if f is None else f
     sw.lap("loads")
+    if own and disc.points.n >= RELEASE_POINTS:  # post-processing needs the derivatives only
+        disc = replace(disc, shape=disc.shape.gradients_only())
+        sw.lap("release")
     system = constrained_system(disc, K, f, m)
     sw.lap("constraints")
     modes = np.zeros((disc.n_dofs, 3))

@@ -225,7 +225,11 @@ def blend_intrinsic(x, nodes, nb, w, dw, lin, enr: Enrichment, tip: int, basis: 
 
 
 def _ops(n, rows, cols, vals, n_extra):
-    return csr_array((vals, (rows, cols)), shape=(n, n_extra))
+    """csr_array (n, n_extra) from triplets, int32 indices when the sizes allow (scipy keeps
+    the index type of the triplets: int64 ones would double the indices' memory)."""
+    it = np.int32 if max(n, n_extra, len(vals)) < 2**31 else np.int64
+    return csr_array((vals, (rows.astype(it, copy=False), cols.astype(it, copy=False))),
+                     shape=(n, n_extra))
 
 
 def interpolant(vals, nb, rows, qn, chunk: int = 65536) -> np.ndarray:
