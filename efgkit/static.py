@@ -25,6 +25,7 @@ from .methods.boundary import (
 from .methods.discretize import Discretization, discretize
 from .methods.efg import EFG
 from .methods.mlpg import MLPG
+from .methods.size import RELEASE_POINTS  # from here on the padded shape arrays are released
 from .problem.graded import modulus_weights, refuse_grading
 from .problem.scene import Scene
 from .problem.symmetry import without_mirror_conditions
@@ -56,12 +57,6 @@ DEFAULT_STABILISATION = 1e2  # beta h / E of the Nitsche term in the variational
 # cantilever (48 x 12, E = 3e7, 6-48 spacings through the depth; and 8 x 2, 16 spacings), SuperLU:
 # 1.00-1.04 at 1e3, 1.1-2.5 at 1e5, 2.2-6.2 at 1e6, 11-68 (energy error 0.10-0.22) from 1e8 to 1e14.
 LOCKING_PENALTY = 1e6
-# From this many domain points on, a solve that discretised the scene itself keeps only the
-# compact derivative operators of its shape functions (Shape.gradients_only) once the
-# stiffness and loads are built: the padded values and derivatives (29 bytes per padded
-# slot, ~1.9 GB at 1e5 nodes of the cracked plate) are not held through the linear solve
-# (docs/performance.md, memory_release).
-RELEASE_POINTS = 200_000
 
 
 def auxiliary_space(disc: Discretization) -> AuxiliarySpace:

@@ -11,6 +11,7 @@ import pytest
 
 import efgkit.static as static
 from efgkit.approx.shape import Gradients
+from efgkit.methods.size import RELEASE_POINTS
 from efgkit.scenefile import load_study
 from efgkit.static import solve
 
@@ -35,7 +36,7 @@ def pair():
 
 def test_the_released_solve_keeps_only_the_compact_derivatives(pair):
     kept, released = pair
-    assert kept.disc.points.n < static.RELEASE_POINTS  # the default keeps them here
+    assert kept.disc.points.n < RELEASE_POINTS  # the default keeps them here
     assert type(kept.disc.shape).__name__ == "Shape"
     sh = released.disc.shape
     assert isinstance(sh, Gradients) and sh.values is None and sh.ddx is None
