@@ -132,7 +132,8 @@ def against(rev: str, rounds: int, m: int = 80) -> dict:
     return {"m": m, "N": nodes.n, "rounds": rounds, "same_graph": same, "times": times,
             "quartiles_s": {k: q(v) for k, v in t.items()},
             "old_over_new": q(t[rev] / t["this tree"]),
-            "kdtree_over_new": q(t["cKDTree"] / t["this tree"])}
+            "kdtree_over_new": q(t["cKDTree"] / t["this tree"]),
+            "threaded_over_new": {k: q(t[k] / t["this tree"]) for k in t if "count + fill" in k}}
 
 
 NOTE = ("What changed: the members' (x, y, d_mI^2) are packed in box order at registration "
@@ -166,7 +167,10 @@ def against_section(res: dict, cmd: str) -> str:
     o, c = res["old_over_new"], res["kdtree_over_new"]
     lines += ["", f"Per-round ratios: {rev} / this tree {o[0]:.2f} / **{o[1]:.2f}** / {o[2]:.2f}; "
               f"cKDTree / this tree {c[0]:.2f} / **{c[1]:.2f}** / {c[2]:.2f} (target >= 10; "
-              "build + search <= 0.1 s).", "", NOTE, f"<!-- end:{tag} -->", ""]
+              "build + search <= 0.1 s)."]
+    for k, v in res.get("threaded_over_new", {}).items():
+        lines[-1] += f" {k} / this tree {v[0]:.2f} / **{v[1]:.2f}** / {v[2]:.2f}."
+    lines += ["", NOTE, f"<!-- end:{tag} -->", ""]
     return "\n".join(lines)
 
 
