@@ -32,10 +32,12 @@ METHODS = ("auto", "uniform", "nonuniform", "kdtree")
 # Fewer points than this are searched by one thread: below it the parallel region's
 # start and barrier cost more than they save, the more so on a machine shared by many jobs.
 PARALLEL = 100_000
-# The CSR lists (neighbour_lists) come from the parallel count and fill passes only with more
-# threads than this: those passes read every candidate twice, the fused one-thread pass
-# once, so two threads can at best tie with it (measured: docs/performance.md, search_2t).
-FUSED_THREADS = 2
+# The CSR lists (neighbour_lists) come from the parallel count and fill passes with more numba
+# threads than this, from the fused one-thread pass (kernels.csr_serial) otherwise. The two
+# passes read every candidate twice, the fused one once, yet on two threads they were not
+# slower at N = 145,281 (seed 000's layout, 41 rounds in turns: count + fill / fused 0.95,
+# quartiles 0.69-1.30; docs/performance.md, search_against_2t), so threads keep them.
+FUSED_THREADS = 1
 
 
 @dataclass(frozen=True, eq=False)
