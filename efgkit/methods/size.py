@@ -42,13 +42,20 @@ NODE_BYTES_DIRECT = 49e3
 # which counts ~20 % more nodes and points than generated here): edge-cracked plate of
 # benchmarks/scaling.py, bc="lagrange", CG: 19,564 nodes, 590,440 points: discretisation
 # 0.73 GB (43 B per estimated slot), solve 0.51 GB; 96,980 nodes, 2.92M points: 3.60 GB
-# (45 B per slot) and 2.77 GB; the unit plate above: 411 MB (516 MB with the arrays held).
+# (45 B per slot) and 2.77 GB; 289,950 nodes, 8.74M points: 11.39 GB (48 B per slot) and
+# 8.2 GB; the unit plate above: 411 MB (516 MB with the arrays held).
 # HELD_SLOT_BYTES: the CSR d/dx, d/dy (8 B each and a shared 4 B index per pair, ~0.57
-# pairs per padded slot) and the enrichment's gradient operators. The cracked plate's 43-45 B
-# per slot (extrinsic enrichment at every point) exceed SLOT_BYTES by ~10 %; the solve's
-# term sets the estimate there (3.78 GB against the 3.60 GB measured at 1e5 nodes).
+# pairs per padded slot) and the enrichment's gradient operators. The cracked plate's 43-48 B
+# per slot (extrinsic enrichment at every point) are SLOT_BYTES plus ENRICHED_POINT_BYTES per
+# point; estimated / measured peak above the interpreter: 0.82 / 0.69, 3.93 / 3.60 and
+# 11.62 / 11.39 GB at 2e4, 1e5 and 3e5 nodes; 1e6 nodes: 38.4 GB (refused on 24 GB).
 RELEASE_POINTS = 200_000
 HELD_SLOT_BYTES = 12.0
+# Extrinsic MLS enrichment without enrich_radius is non-zero at every point: its operators and
+# temporaries add to the discretisation. Measured beyond SLOT_BYTES on the cracked plate: 69,
+# 115 and 175 B per estimated point at 2e4, 1e5 and 3e5 nodes (peaks 0.98, 3.89, 11.68 GB; the
+# discretisation sets the peak from 1e5 nodes on).
+ENRICHED_POINT_BYTES = 200.0
 
 
 @dataclass(frozen=True)
@@ -127,6 +134,9 @@ def size_estimate(scene: Scene, method: EFG) -> SizeEstimate:
     direct = method.solver == "direct" or (method.solver == "auto" and 2 * nodes.nodes <= AUTO_AMG_THRESHOLD)
     per_node = NODE_BYTES_DIRECT * max(1.0, nodes.nodes / 2e4) ** 0.25 if direct else NODE_BYTES_AMG
     released = isinstance(method, EFG) and points >= RELEASE_POINTS  # efgkit.static.solve
-    return SizeEstimate(nodes.nodes, points, width, SLOT_BYTES * points * width,
+    everywhere = getattr(method, "enrichment", "none") == "extrinsic_mls" and \
+        getattr(method, "enrich_radius", None) is None and bool(scene.tips)
+    shape = (SLOT_BYTES * width + (ENRICHED_POINT_BYTES if everywhere else 0.0)) * points
+    return SizeEstimate(nodes.nodes, points, width, shape,
                         per_node * (method.d_max / 2) ** 2 * irregular**0.5 * nodes.nodes,
                         nodes.parts, parts, HELD_SLOT_BYTES * points * width if released else None)
