@@ -43,7 +43,9 @@ NODE_BYTES_DIRECT = 49e3
 # benchmarks/scaling.py, bc="lagrange", CG: 19,564 nodes, 590,440 points: discretisation
 # 0.73 GB (43 B per estimated slot), solve 0.51 GB; 96,980 nodes, 2.92M points: 3.60 GB
 # (45 B per slot) and 2.77 GB; 289,950 nodes, 8.74M points: 11.39 GB (48 B per slot) and
-# 8.2 GB; the unit plate above: 411 MB (516 MB with the arrays held).
+# 8.2 GB; the unit plate above: 411 MB (516 MB with the arrays held). With the enrichment's
+# temporaries formed in chunks (enrichment.EXTRA_CHUNK) the 1e5 peak fell to 3.33 GB above the
+# interpreter (3.62 GB in all); the constants below keep the earlier, larger calibration.
 # HELD_SLOT_BYTES: the CSR d/dx, d/dy (8 B each and a shared 4 B index per pair, ~0.57
 # pairs per padded slot) and the enrichment's gradient operators. The cracked plate's 43-48 B
 # per slot (extrinsic enrichment at every point) are SLOT_BYTES plus ENRICHED_POINT_BYTES per
