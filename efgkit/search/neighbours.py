@@ -35,8 +35,8 @@ PARALLEL = 100_000
 # The CSR lists (neighbour_lists) come from the parallel count and fill passes with more numba
 # threads than this, from the fused one-thread pass (kernels.csr_serial) otherwise. The two
 # passes read every candidate twice, the fused one once, yet on two threads they were not
-# slower at N = 145,281 (seed 000's layout, 41 rounds in turns: count + fill / fused 0.95,
-# quartiles 0.69-1.30; docs/performance.md, search_against_2t), so threads keep them.
+# slower at N = 145,281 (seed 000's layout, four runs of 41 rounds in turns: fused / count +
+# fill medians 1.05, 1.34, 1.77, 1.01; docs/performance.md, search_against_2t), so threads keep them.
 FUSED_THREADS = 1
 
 
