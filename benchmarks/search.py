@@ -110,14 +110,18 @@ def against(rev: str, rounds: int, m: int = 80) -> dict:
            "cKDTree": lambda: neighbour_lists(x, nodes, method="kdtree")}
     from efgkit.search import neighbours
 
-    def one_thread():  # this tree with the threshold of the parallel passes above N
-        keep, neighbours.PARALLEL = neighbours.PARALLEL, 1 << 62
+    threads = get_num_threads()
+    fused = threads <= neighbours.FUSED_THREADS  # this tree's default at this thread count
+
+    def other():  # the other CSR path of this tree: fused on one thread, or count + fill
+        keep, neighbours.FUSED_THREADS = neighbours.FUSED_THREADS, 0 if fused else 1 << 30
         try:
             return run["this tree"]()
         finally:
-            neighbours.PARALLEL = keep
-    if get_num_threads() > 1:
-        run["this tree, one thread"] = one_thread
+            neighbours.FUSED_THREADS = keep
+    if threads > 1:
+        run["this tree, " + (f"count + fill on {threads} threads" if fused else
+                             "fused pass on one thread")] = other
     outs = {k: fn() for k, fn in run.items()}  # warm-up (compiles) and the identity check
     same = {k: bool(all(np.array_equal(a, b) for a, b in zip(o, outs["cKDTree"], strict=True)))
             for k, o in outs.items()}
@@ -132,17 +136,18 @@ def against(rev: str, rounds: int, m: int = 80) -> dict:
     return {"m": m, "N": nodes.n, "rounds": rounds, "same_graph": same, "times": times,
             "quartiles_s": {k: q(v) for k, v in t.items()},
             "old_over_new": q(t[rev] / t["this tree"]),
-            "kdtree_over_new": q(t["cKDTree"] / t["this tree"])}
+            "kdtree_over_new": q(t["cKDTree"] / t["this tree"]),
+            "other_over_new": {k: q(t[k] / t["this tree"]) for k in t if k.startswith("this tree, ")}}
 
 
 NOTE = ("What changed: the members' (x, y, d_mI^2) are packed in box order at registration "
         "(24 bytes per registration, 29 MB for the 1.2M registrations here), so the query reads "
         "a box's candidates as one contiguous run; the points' boxes and the nodes' extent and "
-        "validity are found by compiled loops instead of numpy temporaries; on one thread "
-        "(fewer than 100,000 points, or numba with one thread) count and fill are one pass "
-        "(`kernels.csr_serial`: a chunk's lists in a scratch array, then appended). With two "
-        "threads on this loaded machine the parallel passes gain little over one thread: "
-        "compare the two sections.")
+        "validity are found by compiled loops instead of numpy temporaries. The CSR lists come "
+        "from one fused pass on one thread (`kernels.csr_serial`: each point's neighbours written "
+        "straight into an output grown from the running estimate) below 100,000 points or with "
+        "one numba thread, from the parallel count and fill passes otherwise "
+        "(`neighbours.FUSED_THREADS`); the other path of this tree is timed beside the default.")
 
 
 def against_section(res: dict, cmd: str) -> str:
@@ -164,7 +169,10 @@ def against_section(res: dict, cmd: str) -> str:
     o, c = res["old_over_new"], res["kdtree_over_new"]
     lines += ["", f"Per-round ratios: {rev} / this tree {o[0]:.2f} / **{o[1]:.2f}** / {o[2]:.2f}; "
               f"cKDTree / this tree {c[0]:.2f} / **{c[1]:.2f}** / {c[2]:.2f} (target >= 10; "
-              "build + search <= 0.1 s).", "", NOTE, f"<!-- end:{tag} -->", ""]
+              "build + search <= 0.1 s)."]
+    for k, v in res.get("other_over_new", {}).items():
+        lines[-1] += f" {k} / this tree {v[0]:.2f} / **{v[1]:.2f}** / {v[2]:.2f}."
+    lines += ["", NOTE, f"<!-- end:{tag} -->", ""]
     return "\n".join(lines)
 
 

@@ -76,7 +76,10 @@ class MeshlessSolution(Solution):
 
     def _fields(self, x, derivatives):
         if x is None:
-            return self.disc.post_shape
+            sh = self.disc.post_shape
+            if sh.neighbours is None and not derivatives:  # values released after a large solve
+                return self.disc.shape_at(self.disc.post_points.x, derivatives=False)
+            return sh
         x = self.scene.domain.field_points(x)
         return self.disc.shape_at(x, derivatives=derivatives)
 

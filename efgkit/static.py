@@ -25,6 +25,7 @@ from .methods.boundary import (
 from .methods.discretize import Discretization, discretize
 from .methods.efg import EFG
 from .methods.mlpg import MLPG
+from .methods.size import RELEASE_POINTS  # from here on the padded shape arrays are released
 from .problem.graded import modulus_weights, refuse_grading
 from .problem.scene import Scene
 from .problem.symmetry import without_mirror_conditions
@@ -174,6 +175,7 @@ def solve(scene: Scene, method: EFG | MLPG, disc: Discretization | None = None, 
             "(solver='amg') can no longer be trusted either. Remedy: the default penalty=None (1e3), "
             "or bc='lagrange'", UserWarning, stacklevel=2)
     sw.lap("setup")
+    own = disc is None
     if disc is None:  # the discretisation's stages are this call's (a given one's are not)
         disc = discretize(scene, method)
         sw = Stopwatch(disc.timings | {k: v + disc.timings.get(k, 0.0) for k, v in sw.timings.items()})
@@ -181,11 +183,16 @@ def solve(scene: Scene, method: EFG | MLPG, disc: Discretization | None = None, 
     if method is not disc.method and method.bc != disc.method.bc:
         disc = replace(disc, method=method)  # the solution reports the bc it was solved with
     mat, m = scene.material, method
+    if own and disc.points.n >= RELEASE_POINTS and scene.body_force is None:
+        disc = replace(disc, shape=disc.shape.without_values())  # the stiffness needs no values
     K = stiffness(disc.shape, modulus_weights(disc.scene, disc.points.x, disc.points.w), mat.D) \
         if K is None else K
     sw.lap("stiffness")
     f = loads(disc) if f is None else f
     sw.lap("loads")
+    if own and disc.points.n >= RELEASE_POINTS:  # post-processing needs the derivatives only
+        disc = replace(disc, shape=disc.shape.gradients_only())
+        sw.lap("release")
     system = constrained_system(disc, K, f, m)
     sw.lap("constraints")
     modes = np.zeros((disc.n_dofs, 3))

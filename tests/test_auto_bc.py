@@ -37,3 +37,28 @@ def test_solve_reports_the_bc_it_used(monkeypatch):
     assert nitsche.method.bc == "variational" and lagrange.method.bc == "lagrange"
     k_n, k_l = nitsche.sifs(error=False)[0].KI, lagrange.sifs(error=False)[0].KI
     assert abs(k_n / k_l - 1) < 8e-6 and abs(k_l / 34.0 - 1) < 2.5e-3
+
+
+def test_solver_auto_switches_to_cg_above_the_threshold(monkeypatch):
+    """solver="auto" takes SuperLU up to AUTO_AMG_THRESHOLD unknowns and CG above it, for SPD
+    systems and Lagrange saddle points alike; static's bc choice and the size guard's memory
+    model read the same threshold (benchmarks/auto_threshold.py measured where CG wins)."""
+    import numpy as np
+    from scipy.sparse import diags_array
+
+    import efgkit.methods.size as size
+    import efgkit.static as static
+    from efgkit.system import linalg
+    from efgkit.system.constraints import LinearSystem
+
+    assert static.AUTO_AMG_THRESHOLD == size.AUTO_AMG_THRESHOLD == AUTO_AMG_THRESHOLD
+    n = 60
+    A = diags_array([-np.ones(n - 1), 2.5 * np.ones(n), -np.ones(n - 1)], offsets=[-1, 0, 1]).tocsr()
+    system = LinearSystem(A, np.ones(n), spd=True, n_coeffs=n)
+    monkeypatch.setattr(linalg, "AUTO_AMG_THRESHOLD", n)
+    z_direct, info = linalg.solve(system)
+    assert info["solver"] == "direct"
+    monkeypatch.setattr(linalg, "AUTO_AMG_THRESHOLD", n - 1)
+    z_cg, info = linalg.solve(system)
+    assert info["solver"] == "amg"
+    np.testing.assert_allclose(z_cg, z_direct, rtol=1e-7)  # rtol 1e-8 on the residual, cond ~9

@@ -124,3 +124,14 @@ def test_bc_methods_and_uzawa_benchmarks_run():
         assert abs(runs[0]["KI"] / bc["reference"][method]["KI"] - 1) < 1e-6, method
     uz = _load("uzawa").main(["--scene", "kirsch", "--nodes", "2200", "--no-write"])
     assert all(r[0]["vs_direct"] < 1e-6 for r in uz["runs"].values())
+
+
+@pytest.mark.slow
+def test_auto_threshold_benchmark_runs():
+    """Smoke test of benchmarks/auto_threshold.py: both choices of bc="auto" solve the small
+    cracked plate, SuperLU on the Lagrange system and CG on the Nitsche one, and their K_I
+    agree (both consistent: 2.6e-6 apart at this size in tests/test_auto_bc.py)."""
+    res = _load("auto_threshold").main(["--nodes", "1500", "--rounds", "1", "--no-write"])
+    runs = res["rows"][0]["runs"]
+    assert runs["superlu"][0]["solver"] == "direct" and runs["cg"][0]["solver"] == "amg"
+    assert abs(runs["cg"][0]["KI"] / runs["superlu"][0]["KI"] - 1) < 1e-5

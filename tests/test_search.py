@@ -156,17 +156,33 @@ def test_bad_input(call, match):
 
 @pytest.mark.parametrize("name", ["seed000_m5", "duplicates", "line"])
 def test_threaded_count_and_fill_give_the_one_pass_graph(name, monkeypatch):
-    """Below PARALLEL points (or on one thread) the CSR lists come from one fused pass
-    (kernels.csr_serial); above it from the parallel count and fill passes: the same graph."""
+    """Below PARALLEL points (or on FUSED_THREADS threads or fewer) the CSR lists come from
+    one fused pass (kernels.csr_serial); above both from the parallel count and fill
+    passes: the same graph."""
     from efgkit.search import neighbours
 
     nodes = CLOUDS[name]
     x = query_points(nodes)
     a = neighbour_lists(x, nodes, method="nonuniform")
     monkeypatch.setattr(neighbours, "PARALLEL", 0)
+    monkeypatch.setattr(neighbours, "FUSED_THREADS", 0)
     b = neighbour_lists(x, nodes, method="nonuniform")
     truth = brute(x, nodes)
     np.testing.assert_array_equal(np.diff(a[0]), truth.sum(axis=1))
     np.testing.assert_array_equal(a[1], np.nonzero(truth)[1])
     np.testing.assert_array_equal(a[0], b[0])
     np.testing.assert_array_equal(a[1], b[1])
+
+
+def test_fused_pass_grows_its_output():
+    """kernels.csr_serial starts with room for 32 neighbours per point of the first 4096
+    and grows from its running estimate: a cloud with ~110 neighbours per point and 6000
+    points makes it grow several times; the graph stays that of brute force."""
+    rng = np.random.default_rng(4)
+    nodes = cloud(rng.uniform(0, 1, (2000, 2)), 0.13)  # pi 0.13^2 2000 = 106 per point
+    x = np.concatenate([rng.uniform(0, 1, (5000, 2)), rng.uniform(0, 0.3, (1000, 2))])
+    indptr, indices = neighbour_lists(x, nodes, method="uniform")
+    truth = brute(x, nodes)
+    np.testing.assert_array_equal(np.diff(indptr), truth.sum(axis=1))
+    np.testing.assert_array_equal(indices, np.nonzero(truth)[1])
+    assert np.diff(indptr).mean() > 64  # twice the starting room

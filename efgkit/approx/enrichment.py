@@ -224,8 +224,17 @@ def blend_intrinsic(x, nodes, nb, w, dw, lin, enr: Enrichment, tip: int, basis: 
             R[:, None] * gy + (1 - R[:, None]) * lin[2] + diff * dR[:, 1:2])
 
 
+# Points per pass of the extrinsic enrichment's branch functions and modes (~370 bytes of
+# temporaries per point: at 2.9M points 1.1 GB at once before; docs/performance.md, memory_release).
+EXTRA_CHUNK = 65536
+
+
 def _ops(n, rows, cols, vals, n_extra):
-    return csr_array((vals, (rows, cols)), shape=(n, n_extra))
+    """csr_array (n, n_extra) from triplets, int32 indices when the sizes allow (scipy keeps
+    the index type of the triplets: int64 ones would double the indices' memory)."""
+    it = np.int32 if max(n, n_extra, len(vals)) < 2**31 else np.int64
+    return csr_array((vals, (rows.astype(it, copy=False), cols.astype(it, copy=False))),
+                     shape=(n, n_extra))
 
 
 def interpolant(vals, nb, rows, qn, chunk: int = 65536) -> np.ndarray:
@@ -259,29 +268,35 @@ def extra_columns(x, nodal: Shape, enr: Enrichment, derivatives: bool, scale: fl
                 ramped = (enr.node_q[t] != 0).any(axis=(1, 2))  # (n_nodes,)
                 near_node = ramped[nb.idx] & nb.mask
                 rows = np.flatnonzero((r < enr.r2) | near_node.any(axis=1))
-            if derivatives:
-                _check_off_tip(x[rows], r[rows], g, scale)
-            F, dF = branch_functions(r[rows], th[rows], gr[rows], gt[rows], "full")
-            Q, dQ = williams_modes(F, dF, g, enr.mu, enr.kappa)
-            if np.isfinite(enr.r2):
-                R, dR = ramp(r[rows], gr[rows], enr.r1, enr.r2, enr.ramp)
-                dQ = R[:, None, None, None] * dQ + Q[..., None] * dR[:, None, None, :]
-                Q = R[:, None, None] * Q
             # minus the MLS interpolant of Q (Eq. 44b): sum over the neighbours of phi_I Q(x_I)
             qn = enr.node_q[t].reshape(-1, 4)  # (n_nodes, mode * comp)
-            Q = Q - interpolant(values, nb, rows, qn).reshape(-1, 2, 2)
-            if derivatives:
-                dQ = dQ - np.stack([interpolant(v, nb, rows, qn).reshape(-1, 2, 2)
-                                    for v in (ddx, ddy)], axis=-1)
+            keys = ("ux", "uy", "gxx", "gxy", "gyx", "gyy") if derivatives else ("ux", "uy")
+            out = {key: np.empty((len(rows), 2)) for key in keys}  # (row, mode)
+            for s in range(0, len(rows), EXTRA_CHUNK):  # the modes' temporaries a chunk at a time
+                rr = rows[s:s + EXTRA_CHUNK]
+                if derivatives:
+                    _check_off_tip(x[rr], r[rr], g, scale)
+                F, dF = branch_functions(r[rr], th[rr], gr[rr], gt[rr], "full")
+                Q, dQ = williams_modes(F, dF, g, enr.mu, enr.kappa)
+                if np.isfinite(enr.r2):
+                    R, dR = ramp(r[rr], gr[rr], enr.r1, enr.r2, enr.ramp)
+                    dQ = R[:, None, None, None] * dQ + Q[..., None] * dR[:, None, None, :]
+                    Q = R[:, None, None] * Q
+                Q = Q - interpolant(values, nb, rr, qn).reshape(-1, 2, 2)
+                out["ux"][s:s + EXTRA_CHUNK], out["uy"][s:s + EXTRA_CHUNK] = Q[..., 0], Q[..., 1]
+                if derivatives:
+                    dQ = dQ - np.stack([interpolant(v, nb, rr, qn).reshape(-1, 2, 2)
+                                        for v in (ddx, ddy)], axis=-1)
+                    for key, (i, j) in (("gxx", (0, 0)), ("gxy", (0, 1)), ("gyx", (1, 0)),
+                                        ("gyy", (1, 1))):
+                        out[key][s:s + EXTRA_CHUNK] = dQ[:, :, i, j]
             for mode in (0, 1):
                 col = np.full(len(rows), 2 * t + mode)
-                for key, v in (("ux", Q[:, mode, 0]), ("uy", Q[:, mode, 1]),
-                               ("gxx", dQ[:, mode, 0, 0]), ("gxy", dQ[:, mode, 0, 1]),
-                               ("gyx", dQ[:, mode, 1, 0]), ("gyy", dQ[:, mode, 1, 1])):
+                for key, v in out.items():
                     parts[key][0].append(rows)
                     parts[key][1].append(col)
-                    parts[key][2].append(v)
-        ops = {k: _ops(n, *(np.concatenate(p) for p in v), ne) for k, v in parts.items()}
+                    parts[key][2].append(v[:, mode])
+        ops = {k: _ops(n, *(np.concatenate(p) for p in v), ne) for k, v in parts.items() if v[0]}
     else:  # PU: functions phi_I (q_i(x) - q_i(x_I)) of the enriched nodes
         where = np.full(max(int(nb.idx.max(initial=0)), int(enr.pu_nodes.max(initial=0))) + 1, -1)
         where[enr.pu_nodes] = np.arange(len(enr.pu_nodes))

@@ -179,7 +179,10 @@ def discretize(scene: Scene, method: EFG) -> Discretization:
     check_memory(est.bytes, f"{source} would give about {est.nodes:.2g} nodes and "
                  f"{est.points:.2g} quadrature points with up to {est.width} neighbours each; "
                  f"discretising and solving it needs {est.shape_bytes / 1e9:.3g} GB for the shape "
-                 f"functions and {est.solve_bytes / 1e9:.3g} GB for the stiffness and the solve",
+                 f"functions and {est.solve_bytes / 1e9:.3g} GB for the stiffness and the solve"
+                 + ("" if est.held_bytes is None else
+                    f" (on top of the {est.held_bytes / 1e9:.3g} GB of compact derivatives kept "
+                    "through it; the padded shape arrays are released)"),
                  "Remedy: a discretisation about {factor:.2g} times coarser (spacing, cell_size, "
                  "zone spacings) would fit; refine only where needed (zones near tips, holes and "
                  "corners), or lower d_max or order.")

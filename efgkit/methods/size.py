@@ -19,7 +19,7 @@ from ..quadrature.rules import triangle_rule
 from ..system.linalg import AUTO_AMG_THRESHOLD
 from .efg import EFG
 
-__all__ = ["SizeEstimate", "size_estimate"]
+__all__ = ["SizeEstimate", "size_estimate", "RELEASE_POINTS"]
 
 # Size guard: the peak memory of discretize and a static solve, estimated before allocating.
 # Calibration (the larger of the tracemalloc peak and the peak RSS above the interpreter; unit
@@ -34,6 +34,30 @@ __all__ = ["SizeEstimate", "size_estimate"]
 SLOT_BYTES = 40.0
 NODE_BYTES_AMG = 18e3
 NODE_BYTES_DIRECT = 49e3
+# From RELEASE_POINTS domain points on, efgkit.static.solve drops the padded values before the
+# stiffness and keeps compact CSR derivatives (Shape.gradients_only) through the linear solve;
+# the peak is then the larger of the discretisation's (SLOT_BYTES per slot) and the solve's
+# (HELD_SLOT_BYTES per slot held plus the per-node bytes) instead of their sum. Calibration
+# (peak RSS above the interpreter, sampled every 5 ms; the slots and nodes of this estimate,
+# which counts ~20 % more nodes and points than generated here): edge-cracked plate of
+# benchmarks/scaling.py, bc="lagrange", CG: 19,564 nodes, 590,440 points: discretisation
+# 0.73 GB (43 B per estimated slot), solve 0.51 GB; 96,980 nodes, 2.92M points: 3.60 GB
+# (45 B per slot) and 2.77 GB; 289,950 nodes, 8.74M points: 11.39 GB (48 B per slot) and
+# 8.2 GB; the unit plate above: 411 MB (516 MB with the arrays held). With the enrichment's
+# temporaries formed in chunks (enrichment.EXTRA_CHUNK) the 1e5 peak fell to 3.33 GB above the
+# interpreter (3.62 GB in all); the constants below keep the earlier, larger calibration.
+# HELD_SLOT_BYTES: the CSR d/dx, d/dy (8 B each and a shared 4 B index per pair, ~0.57
+# pairs per padded slot) and the enrichment's gradient operators. The cracked plate's 43-48 B
+# per slot (extrinsic enrichment at every point) are SLOT_BYTES plus ENRICHED_POINT_BYTES per
+# point; estimated / measured peak above the interpreter: 0.82 / 0.69, 3.93 / 3.60 and
+# 11.62 / 11.39 GB at 2e4, 1e5 and 3e5 nodes; 1e6 nodes: 38.4 GB (refused on 24 GB).
+RELEASE_POINTS = 200_000
+HELD_SLOT_BYTES = 12.0
+# Extrinsic MLS enrichment without enrich_radius is non-zero at every point: its operators and
+# temporaries add to the discretisation. Measured beyond SLOT_BYTES on the cracked plate: 69,
+# 115 and 175 B per estimated point at 2e4, 1e5 and 3e5 nodes (peaks 0.98, 3.89, 11.68 GB; the
+# discretisation sets the peak from 1e5 nodes on).
+ENRICHED_POINT_BYTES = 200.0
 
 
 @dataclass(frozen=True)
@@ -42,7 +66,9 @@ class SizeEstimate:
     ``nodes``, ``points`` (domain quadrature), ``width`` (padded width of the neighbour
     lists: pi d_max^2, more on irregular clouds), ``shape_bytes`` (shape functions at the
     points), ``solve_bytes`` (stiffness, constraints, linear solve) and the nodes and points
-    by source (``node_parts``, ``point_parts``: "arguments = values" -> count)."""
+    by source (``node_parts``, ``point_parts``: "arguments = values" -> count), and
+    ``held_bytes``: what the solve keeps of the shape functions when it releases their padded
+    arrays (None: it keeps them all, and the two parts add up)."""
 
     nodes: float
     points: float
@@ -51,10 +77,14 @@ class SizeEstimate:
     solve_bytes: float
     node_parts: dict
     point_parts: dict
+    held_bytes: float | None = None
 
     @property
     def bytes(self) -> float:
-        return self.shape_bytes + self.solve_bytes
+        """The estimated peak: the discretisation's, then the solve's on top of what it holds."""
+        if self.held_bytes is None:
+            return self.shape_bytes + self.solve_bytes
+        return max(self.shape_bytes, self.held_bytes + self.solve_bytes)
 
 
 def size_estimate(scene: Scene, method: EFG) -> SizeEstimate:
@@ -66,8 +96,8 @@ def size_estimate(scene: Scene, method: EFG) -> SizeEstimate:
     >>> est = size_estimate(Scene(Domain.rectangle(0, 0, 1, 1), Elastic(1.0, 0.3)),
     ...                     EFG(spacing=1 / 140, bc="lagrange"))
     >>> round(est.nodes, -2), round(est.points, -4), est.width, round(est.bytes / 1e6, -1)
-    (20200.0, 350000.0, 14, 560.0)
-    >>> # measured: 19,881 nodes, 313,600 points, width 13, peak 516 MB (module comment)
+    (20200.0, 350000.0, 14, 420.0)
+    >>> # measured: 19,881 nodes, 313,600 points, width 13, peak 411 MB (module comment)
     """
     method = method.for_scene(scene)
     dom, cracks = scene.domain, scene.cracks
@@ -105,6 +135,10 @@ def size_estimate(scene: Scene, method: EFG) -> SizeEstimate:
     points = sum(parts.values())
     direct = method.solver == "direct" or (method.solver == "auto" and 2 * nodes.nodes <= AUTO_AMG_THRESHOLD)
     per_node = NODE_BYTES_DIRECT * max(1.0, nodes.nodes / 2e4) ** 0.25 if direct else NODE_BYTES_AMG
-    return SizeEstimate(nodes.nodes, points, width, SLOT_BYTES * points * width,
+    released = isinstance(method, EFG) and points >= RELEASE_POINTS  # efgkit.static.solve
+    everywhere = getattr(method, "enrichment", "none") == "extrinsic_mls" and \
+        getattr(method, "enrich_radius", None) is None and bool(scene.tips)
+    shape = (SLOT_BYTES * width + (ENRICHED_POINT_BYTES if everywhere else 0.0)) * points
+    return SizeEstimate(nodes.nodes, points, width, shape,
                         per_node * (method.d_max / 2) ** 2 * irregular**0.5 * nodes.nodes,
-                        nodes.parts, parts)
+                        nodes.parts, parts, HELD_SLOT_BYTES * points * width if released else None)

@@ -232,39 +232,35 @@ def fill_csr(x, box, start, members, packed, indptr):
 
 
 @njit(cache=True)
-def csr_serial(x, box, start, members, packed, chunk=4096):
+def csr_serial(x, box, start, members, packed):
     """One pass of count and fill on one thread: ``indptr (n + 1,)`` and ``indices``.
 
-    The points are taken ``chunk`` at a time; a chunk's lists go to a scratch array of at
-    most ``chunk`` times the largest box, then to the output, whose size is estimated from
-    the lists found so far and grown by half when short (the final trim is one copy of
-    the output; the count pass this replaces read every candidate a second time).
+    Each point's neighbours are written straight into the output, whose size is
+    estimated from the lists found so far (5 % over) and grown when fewer than one box's
+    candidates are left; the result is a view of it when at most a quarter is unused,
+    a copy otherwise. The count pass this replaces read every candidate a second time.
     """
     n = len(x)
     indptr = np.zeros(n + 1, np.int64)
     widest = 0
     for b in range(len(start) - 1):
         widest = max(widest, start[b + 1] - start[b])
-    scratch = np.empty(min(n, chunk) * widest, np.int64)
-    out = np.empty(0, np.int64)
-    for q0 in range(0, n, chunk):
-        q1 = min(n, q0 + chunk)
-        c = 0
-        for q in range(q0, q1):
-            b = box[q]
-            if b >= 0:
-                x0, y0 = x[q, 0], x[q, 1]
-                for a in range(start[b], start[b + 1]):
-                    dx = packed[a, 0] - x0
-                    dy = packed[a, 1] - y0
-                    if dx * dx + dy * dy < packed[a, 2]:
-                        scratch[c] = members[a]
-                        c += 1
-            indptr[q + 1] = indptr[q0] + c
-        need = indptr[q1]
-        if need > len(out):  # estimate the total from the rows so far, 5 % over
-            grown = np.empty(max(need, int(1.05 * need * n / q1) + 16), np.int64)
-            grown[:indptr[q0]] = out[:indptr[q0]]
+    out = np.empty(min(n, 4096) * 32 + widest, np.int64)
+    c = 0
+    for q in range(n):
+        if c + widest > len(out):  # room for one more box: grow to the estimated total
+            est = int(1.05 * c * n / q) + widest + 16
+            grown = np.empty(max(est, c + widest, (5 * len(out)) // 4), np.int64)
+            grown[:c] = out[:c]
             out = grown
-        out[indptr[q0]:need] = scratch[:c]
-    return indptr, out[:indptr[n]].copy() if len(out) > indptr[n] else out
+        b = box[q]
+        if b >= 0:
+            x0, y0 = x[q, 0], x[q, 1]
+            for a in range(start[b], start[b + 1]):
+                dx = packed[a, 0] - x0
+                dy = packed[a, 1] - y0
+                if dx * dx + dy * dy < packed[a, 2]:
+                    out[c] = members[a]
+                    c += 1
+        indptr[q + 1] = c
+    return indptr, out[:c] if 4 * len(out) <= 5 * c + 64 else out[:c].copy()

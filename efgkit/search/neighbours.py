@@ -32,6 +32,12 @@ METHODS = ("auto", "uniform", "nonuniform", "kdtree")
 # Fewer points than this are searched by one thread: below it the parallel region's
 # start and barrier cost more than they save, the more so on a machine shared by many jobs.
 PARALLEL = 100_000
+# The CSR lists (neighbour_lists) come from the parallel count and fill passes with more numba
+# threads than this, from the fused one-thread pass (kernels.csr_serial) otherwise. The two
+# passes read every candidate twice, the fused one once, yet on two threads they were not
+# slower at N = 145,281 (seed 000's layout, four runs of 41 rounds in turns: fused / count +
+# fill medians 1.05, 1.34, 1.77, 1.01; docs/performance.md, search_against_2t), so threads keep them.
+FUSED_THREADS = 1
 
 
 @dataclass(frozen=True, eq=False)
@@ -86,12 +92,12 @@ def _check(x, nodes, method):
 
 
 @contextmanager
-def _threads(n_points):
-    """One numba thread for fewer than PARALLEL points, the configured number otherwise."""
+def _threads(one):
+    """One numba thread inside when ``one``, the configured number otherwise."""
     import numba  # here, not at the top: runs without compiled kernels never import it
 
     before = numba.get_num_threads()
-    if n_points < PARALLEL:
+    if one:
         numba.set_num_threads(1)
     try:
         yield
@@ -128,7 +134,7 @@ def neighbour_lists(x: np.ndarray, nodes: NodeCloud, boxes: BoxGrid | None = Non
 
     from .kernels import box_index, count_neighbours, csr_serial, fill_csr
 
-    with _threads(len(x)):
+    with _threads(len(x) < PARALLEL or numba.get_num_threads() <= FUSED_THREADS):
         box = box_index(x, grid.axis, grid.edges, grid.side, grid.offset, grid.lo)
         if numba.get_num_threads() == 1:  # one pass: count and fill together
             return csr_serial(x, box, grid.start, grid.members, grid.packed)
@@ -175,7 +181,7 @@ def find_neighbours(x: np.ndarray, nodes: NodeCloud, boxes: BoxGrid | None = Non
         return Neighbours(idx, mask)
     from .kernels import box_index, count_neighbours, fill_padded
 
-    with _threads(len(x)):
+    with _threads(len(x) < PARALLEL):
         box = box_index(x, grid.axis, grid.edges, grid.side, grid.offset, grid.lo)
         count = count_neighbours(x, box, grid.start, grid.packed)
         kmax = int(count.max()) if len(x) else 0

@@ -200,8 +200,7 @@ def _with_enrichment(shape: Shape, w, D, backend) -> csr_array:
         kx = ky = 0
         for s in range(0, len(w), chunk):  # operators of a chunk of points at a time
             part = slice(s, s + chunk)
-            sub = Shape(shape.neighbours.subset(part), shape.values[part], shape.ddx[part],
-                        shape.ddy[part], nf)
+            sub = Shape(shape.neighbours.subset(part), None, shape.ddx[part], shape.ddy[part], nf)
             dxT, dyT = csr_array(sub.dx.T), csr_array(sub.dy.T)
             sx, sy, sxy = (csr_array(a[part]) for a in sig)
             kx = kx + dxT @ sx + dyT @ sxy
