@@ -3,8 +3,9 @@
 MLPG1 pairs the quartic-spline test function of the disc (seed 002 Eq. 8) with the MLS trial
 functions. Away from the boundary its ``M^-1 K`` is translation invariant, and its Fourier
 symbol (:func:`~efgkit.explicit.spectrum.row_symbol`) carries the product of the transforms
-of the test and trial functions: with the default Gaussian trial weight (seed 002 Eq. 7,
-k = 2, c = 0.5 r_I) it is negative at the checkerboard (-0.061 lambda_max), so ``M^-1 K``
+of the test and trial functions: with the Gaussian trial weight (seed 002 Eq. 7,
+c = 0.5 r_I) it is negative at the checkerboard (-0.061 lambda_max with k = 2 and the
+seed's 1.1 h discs; -0.011 with k = 1, MLPG's static default), so ``M^-1 K``
 has negative real eigenvalues, whose modes grow like ``exp(sqrt(-lambda) t)`` at any step
 (gamma ~ 1/h). The cubic-spline weight's symbol is non-negative (its minimum is the 0 of
 the rigid translations); complex pairs with small imaginary parts remain near the
