@@ -77,14 +77,18 @@ def test_time_to_target_interpolates_in_log_log():
     spec = importlib.util.spec_from_file_location("bench_wp", BENCH / "work_precision.py")
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
-    pts = [{"seconds": 1.0, "error": 1e-2}, {"seconds": 100.0, "error": 1e-4}]
+    pts = [{"n_dofs": 10, "seconds": 1.0, "error": 1e-2}, {"n_dofs": 40, "seconds": 100.0, "error": 1e-4}]
     assert mod.time_to(pts)["seconds"] == pytest.approx(10.0)  # midway in log error and log time
     assert mod.time_to(pts[1:]) == {"seconds": 100.0, "bound": "<="}
     assert mod.time_to(pts[:1])["bound"] == "not reached"
     # a lucky coarse point below the target does not count when a finer one is above it again
-    wobbly = [{"seconds": 1.0, "error": 1e-4}, {"seconds": 2.0, "error": 1e-2},
-              {"seconds": 20.0, "error": 1e-4}]
+    wobbly = [{"n_dofs": 10, "seconds": 1.0, "error": 1e-4}, {"n_dofs": 40, "seconds": 2.0, "error": 1e-2},
+              {"n_dofs": 160, "seconds": 20.0, "error": 1e-4}]
     assert mod.time_to(wobbly)["seconds"] == pytest.approx(2.0 * 10**0.5)
+    # refinement order, not time order: a fixed cost can make the coarse point the slowest
+    # (MLPG's tip disc rule); the target is reached between it and the next refinement
+    fixed = [{"n_dofs": 10, "seconds": 2.0, "error": 1e-2}, {"n_dofs": 40, "seconds": 0.5, "error": 1e-4}]
+    assert mod.time_to(fixed)["seconds"] == pytest.approx(1.0)  # 2 * (0.5 / 2)^(1/2)
 
 
 def _load(name):
