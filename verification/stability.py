@@ -402,8 +402,9 @@ def _mlpg_markdown(m: dict) -> list[str]:
              f"{m['growth_eigenvalue'][k][1]:+.3g}i | {m['efolds_per_step'][k]:.3g} | "
              f"{m['stable_steps'][k]} | {m['energy_drift_early'][k]:.1e} | "
              f"{m['lambda_max_error'][k]:.1e} |" for k in keys]
-    return ["MLPG1 (K unsymmetric, defaults r_I = 2.5 h, r_s = 1.1 h, Gaussian weight k = 2, "
-            "c = 0.5 r_I, quadratic basis; `free_quartic`: the quartic-spline weight): M^-1 K "
+    return ["MLPG1 (K unsymmetric, the seed's r_I = 2.5 h, r_s = 1.1 h, Gaussian weight k = 2 "
+            "(MLPG's default until issue 14), c = 0.5 r_I, quadratic basis; `free_quartic`: the "
+            "quartic-spline weight): M^-1 K "
             "has eigenvalues lambda off the positive real axis, whose modes grow like exp(gamma "
             "t), gamma = Im sqrt(lambda), at every step size: the runs at 0.98 dt_c blow up "
             "after about ln(amplification to the detection level) / (gamma dt) steps (the "
