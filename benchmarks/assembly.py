@@ -23,7 +23,6 @@ import argparse
 import importlib.util
 import json
 import platform
-import re
 import subprocess
 import sys
 import tempfile
@@ -226,16 +225,6 @@ def markdown(res: dict, cmd: str) -> str:
     return "\n".join(lines)
 
 
-def write_section(text: str, path: Path) -> None:
-    """Put the ``<!-- begin:NAME -->`` ... ``<!-- end:NAME -->`` section ``text`` into
-    ``path``, replacing the section of the same name or appending it."""
-    name = re.search(r"<!-- begin:(\w+) -->", text).group(1)
-    old = path.read_text() if path.exists() else ""
-    pat = re.compile(rf"<!-- begin:{name} -->.*?<!-- end:{name} -->\n?", re.S)
-    new = pat.sub(lambda _: text, old) if pat.search(old) else old.rstrip("\n") + "\n\n" + text
-    path.write_text(new)
-
-
 def main(argv=None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true")
@@ -257,6 +246,7 @@ def main(argv=None) -> dict:
     cmd = ("PYTHONPATH=. NUMBA_NUM_THREADS=2 python benchmarks/assembly.py"
            + (" --quick" if args.quick else "") + (f" --rounds {rounds}" if rounds != 7 else ""))
     if not args.no_write:
+        from doc_sections import write_section
         write_section(markdown(res, cmd), ROOT / "docs" / "performance.md")
         write_json(res, ROOT / "benchmarks" / "out" / "assembly.json")
     return res

@@ -118,7 +118,7 @@ def main(argv=None) -> dict:
     text = markdown(res, cmd)
     print(text)
     if not args.no_write:
-        from search import write_section
+        from doc_sections import write_section
 
         from efgkit.io import write_json
 

@@ -104,7 +104,7 @@ def main(argv=None) -> dict:
            "n_points": disc.points.n, "build_s": t_build, "rounds": args.rounds,
            "reference": ref, "runs": runs}
     if not args.no_write:
-        from search import write_section
+        from doc_sections import write_section
 
         from efgkit.io import write_json
 

@@ -100,7 +100,7 @@ def main(argv=None) -> dict:
            "dont_write_bytecode": os.environ.get("PYTHONDONTWRITEBYTECODE")}
     if not args.no_write:
         sys.path.insert(0, str(ROOT / "benchmarks"))
-        from search import write_section
+        from doc_sections import write_section
 
         cmd = f"PYTHONPATH=. python benchmarks/cold_start.py --rounds {args.rounds}" + (
             f" --before {args.before}" if args.before else "")

@@ -187,7 +187,7 @@ def main(argv=None) -> dict:
         runs = compare_bcs(args.compare_bc, args.rounds)
         if not args.no_write:
             sys.path.insert(0, str(ROOT / "benchmarks"))
-            from search import write_section
+            from doc_sections import write_section
 
             from efgkit.io import write_json
             cmd = f"PYTHONPATH=. python benchmarks/scaling.py --compare-bc {args.compare_bc:g}"
@@ -208,7 +208,7 @@ def main(argv=None) -> dict:
         " --nodes " + " ".join(f"{n:g}" for n in args.nodes) if not args.quick else "")
     if not args.no_write:
         sys.path.insert(0, str(ROOT / "benchmarks"))
-        from search import write_section
+        from doc_sections import write_section
 
         from efgkit.io import write_json
         write_section(markdown(res, cmd), ROOT / "docs" / "performance.md")

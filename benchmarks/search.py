@@ -275,16 +275,6 @@ def markdown(res: dict, cmd: str) -> str:
     return "\n".join(lines)
 
 
-def write_section(text: str, path: Path) -> None:
-    """Put the ``<!-- begin:NAME -->`` ... ``<!-- end:NAME -->`` section ``text`` into
-    ``path``, replacing the section of the same name or appending it."""
-    name = re.search(r"<!-- begin:(\w+) -->", text).group(1)
-    old = path.read_text() if path.exists() else ""
-    pat = re.compile(rf"<!-- begin:{name} -->.*?<!-- end:{name} -->\n?", re.S)
-    new = pat.sub(lambda _: text, old) if pat.search(old) else old.rstrip("\n") + "\n\n" + text
-    path.write_text(new)
-
-
 def main(argv=None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true")
@@ -306,6 +296,7 @@ def main(argv=None) -> dict:
         text = against_section(res, cmd)
         print(text)
         if not args.no_write:
+            from doc_sections import write_section
             write_section(text, ROOT / "docs" / "performance.md")
             write_json(res, ROOT / "benchmarks" / "out" / f"search_against_{res['threads']}t.json")
         return res
@@ -318,6 +309,7 @@ def main(argv=None) -> dict:
            "rows": [measure(m, args.repeat, before) for m in sizes]}
     cmd = "python benchmarks/search.py" + (" --quick" if args.quick else "")
     if not args.no_write:
+        from doc_sections import write_section
         write_section(markdown(res, cmd), ROOT / "docs" / "performance.md")
         write_json(res, ROOT / "benchmarks" / "out" / "search.json")
     return res

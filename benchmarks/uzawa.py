@@ -81,7 +81,7 @@ def main(argv=None) -> dict:
            "scene": args.scene, "n_nodes": disc.nodes.n, "n_dofs": disc.n_dofs,
            "direct_s": t_direct, "reference": ref, "runs": runs, "default": default}
     if not args.no_write:
-        from search import write_section
+        from doc_sections import write_section
 
         cmd = (f"PYTHONPATH=. python benchmarks/uzawa.py --scene {args.scene} --nodes "
                f"{args.nodes:g} --weights {' '.join(f'{w:g}' for w in args.weights)}")

@@ -376,24 +376,13 @@ def mlpg_headline(problem: str, r: dict) -> str:
     return f"**{problem}**: " + "; ".join(parts) + tail + "."
 
 
-def write_section(text: str, path: Path) -> None:
-    """Replace the marked section of ``path`` (or append it)."""
-    old = path.read_text()
-    a, b = "<!-- begin:mlpg_work_precision -->", "<!-- end:mlpg_work_precision -->"
-    if a in old and b in old:
-        new = old[:old.index(a)] + text.rstrip("\n") + old[old.index(b) + len(b):]
-    else:
-        new = old.rstrip("\n") + "\n\n" + text
-    path.write_text(new)
-
-
 def interleaved_main(args) -> dict:
     """``--interleaved``: the section ``work_interleaved`` of docs/performance.md."""
-    import re
     import sys
 
     sys.path.insert(0, str(Path(__file__).resolve().parent))
     import work_interleaved as wi
+    from doc_sections import write_section
 
     warnings.simplefilter("ignore", UserWarning)
     sc = patch_scene()  # warm-up: numba kernels and imports
@@ -409,11 +398,7 @@ def interleaved_main(args) -> dict:
     print(text)
     if not args.no_write:
         write_json(res, ROOT / "benchmarks" / "out" / "work_interleaved.json")
-        path = ROOT / "docs" / "performance.md"
-        old = path.read_text()
-        pat = re.compile(r"<!-- begin:work_interleaved -->.*?<!-- end:work_interleaved -->\n?", re.S)
-        path.write_text(pat.sub(lambda _: text, old) if pat.search(old)
-                        else old.rstrip("\n") + "\n\n" + text)
+        write_section(text, ROOT / "docs" / "performance.md")
     return res
 
 
@@ -438,6 +423,7 @@ def main(argv=None) -> dict:
         for r in res["problems"].values():
             r.update(summarise(r["curves"]))
         cmd = "python benchmarks/work_precision.py --mlpg" + (" --quick" if res.get("quick") else "")
+        from doc_sections import write_section
         write_section(mlpg_section(res, cmd), ROOT / "docs" / "performance.md")
         return res
     if args.render:
@@ -467,6 +453,7 @@ def main(argv=None) -> dict:
         print(text)
         if not args.no_write:
             write_json(res, ROOT / "benchmarks" / "out" / "work_precision_mlpg.json")
+            from doc_sections import write_section
             write_section(text, ROOT / "docs" / "performance.md")
         return res
     res["notes"] = NOTES

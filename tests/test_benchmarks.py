@@ -67,7 +67,7 @@ def test_work_precision_mlpg_section(tmp_path):
     page = tmp_path / "performance.md"
     a, b = "<!-- begin:mlpg_work_precision -->", "<!-- end:mlpg_work_precision -->"
     page.write_text(f"intro\n{a}\nold\n{b}\ntail\n")
-    mod.write_section(text, page)
+    _load("doc_sections").write_section(text, page)
     new = page.read_text()
     assert new.startswith("intro\n") and new.endswith("tail\n") and "old" not in new
     assert new.count("<!-- begin:mlpg_work_precision -->") == 1
