@@ -280,22 +280,22 @@ def _mlpg_galerkin(rep: Report, m: dict, h: float, n: int, quick: bool) -> None:
         "free", "clamped_modified_mls", "clamped_penalty", "clamped_collocation")
     for case in cases:
         scene, opts = _mlpg_scenes()[case]
-        t0 = time.perf_counter()
         method = MLPG(spacing=h, explicit_form="galerkin", **SEED_WEIGHT,
                       **{k: v for k, v in opts.items() if k != "explicit_weight"})
-        dyn = dynamics(scene, method)
-        dtc, _ = stable_step(dyn)
-        key = f"mlpg/{case}_galerkin"
-        m["dt_critical"][key] = dtc
-        m["n_dofs"][key] = dyn.n_dofs
-        _below_and_above(m, key, scene, method, dyn, dtc, n)
-        m["seconds"][key] = time.perf_counter() - t0
-        _check_stable(rep, m, key, n)
+        _symmetric_row(rep, m, f"mlpg/{case}_galerkin", scene, method, n)
 
 
-def _check_stable(rep: Report, m: dict, key: str, n: int) -> None:
-    """The issue's three checks of a symmetric method's row ``key``: ``n`` steps at 0.98 dt_c,
-    the energy drift there, and the blow-up at 1.02 dt_c detected within ``n`` steps."""
+def _symmetric_row(rep: Report, m: dict, key: str, scene, method, n: int) -> None:
+    """Row ``key`` of a method with a symmetric K (EFG, MLPG's Galerkin form): the critical
+    step, the runs below and above it (:func:`_below_and_above`) and the issue's three checks:
+    ``n`` steps at 0.98 dt_c, the energy drift there, the blow-up at 1.02 dt_c within ``n``."""
+    t0 = time.perf_counter()
+    dyn = dynamics(scene, method)
+    dtc, _ = stable_step(dyn)
+    m["dt_critical"][key] = dtc
+    m["n_dofs"][key] = dyn.n_dofs
+    _below_and_above(m, key, scene, method, dyn, dtc, n)
+    m["seconds"][key] = time.perf_counter() - t0
     rep.check(f"{key}: steps without blow-up at 0.98 dt_c", m["stable_steps"][key], ">=", n)
     rep.check(f"{key}: energy drift at 0.98 dt_c", m["energy_drift"][key], "<=", DRIFT_BOUND)
     blow = m["blowup_step"][key]
@@ -331,16 +331,7 @@ def main(quick: bool = False, out_dir=None) -> dict:
     for case, (scene, opts) in _scenes().items():
         if quick and case in ("cracked_plain", "cracked_extrinsic_mls"):
             continue
-        t0 = time.perf_counter()
-        method = EFG(spacing=h, **opts)
-        dyn = dynamics(scene, method)
-        dtc, _ = stable_step(dyn)
-        key = f"efg/{case}"
-        m["dt_critical"][key] = dtc
-        m["n_dofs"][key] = dyn.n_dofs
-        _below_and_above(m, key, scene, method, dyn, dtc, n)
-        m["seconds"][key] = time.perf_counter() - t0
-        _check_stable(rep, m, key, n)
+        _symmetric_row(rep, m, f"efg/{case}", scene, EFG(spacing=h, **opts), n)
     _mlpg(rep, m, h, n, quick)
     _mlpg_galerkin(rep, m, h, n, quick)
     m["explicit_auto_weight"] = EXPLICIT_AUTO_WEIGHT
