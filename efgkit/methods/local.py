@@ -56,7 +56,7 @@ from .discretize import (
 )
 from .local_nodes import local_nodes
 from .local_size import local_size_estimate
-from .local_tips import refine_tip_discs
+from .local_tips import tip_disc_rule
 from .mlpg import MLPG
 
 __all__ = ["LocalBoundary", "discretize_local", "local_loads", "local_system", "DEFAULT_MLPG_PENALTY"]
@@ -173,10 +173,7 @@ def discretize_local(scene: Scene, method: MLPG) -> Discretization:
     theta_a, span = sectors(nodes.x, r_s, allseg, scene.domain.contains, side)
     points = disc_points(nodes.x, r_s, allseg, theta_a, span, method.quadrature, method.radial,
                          method.angular, piece_angular=method.cut_angular)
-    if method.enrichment != "none" and scene.tips:  # singular integrands (methods.local_tips)
-        points = refine_tip_discs(points, nodes.x, r_s, r_s / method.test_radius, allseg, theta_a, span,
-                                  np.array([t.x for t in scene.tips]), method.quadrature,
-                                  method.tip_radial, method.tip_angular)
+    points = tip_disc_rule(points, scene, method, nodes.x, r_s, allseg, theta_a, span)
     bpts, edge_of = boundary_pieces(nodes.x, r_s, bseg, bedge, bs, edges, method.boundary_order,
                                     blockers=cseg)
     own_side = side[bpts.owner]

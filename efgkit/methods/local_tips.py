@@ -29,7 +29,20 @@ import numpy as np
 from ..quadrature.discs import disc_points
 from ..quadrature.rules import Points
 
-__all__ = ["near_tip_discs", "refine_tip_discs"]
+__all__ = ["near_tip_discs", "refine_tip_discs", "tip_disc_rule"]
+
+
+def tip_disc_rule(points: Points, scene, method, x: np.ndarray, r_s: np.ndarray,
+                  segments: np.ndarray, theta_a: np.ndarray, span: np.ndarray) -> Points:
+    """The disc ``points`` of an MLPG discretisation (``method``, ``scene``) with the discs near
+    its crack tips refined (:func:`refine_tip_discs`, ``method.tip_radial`` x
+    ``method.tip_angular``) when an enrichment makes the integrands singular there; unchanged
+    without tips or without enrichment (the plain trial functions are not singular)."""
+    if method.enrichment == "none" or not scene.tips:
+        return points
+    return refine_tip_discs(points, x, r_s, r_s / method.test_radius, segments, theta_a, span,
+                            np.array([t.x for t in scene.tips]), method.quadrature,
+                            method.tip_radial, method.tip_angular)
 
 
 def near_tip_discs(x: np.ndarray, r_s: np.ndarray, c: np.ndarray, tips: np.ndarray) -> np.ndarray:
