@@ -173,7 +173,7 @@ def discretize_local(scene: Scene, method: MLPG) -> Discretization:
     theta_a, span = sectors(nodes.x, r_s, allseg, scene.domain.contains, side)
     points = disc_points(nodes.x, r_s, allseg, theta_a, span, method.quadrature, method.radial,
                          method.angular, piece_angular=method.cut_angular)
-    points = tip_disc_rule(points, scene, method, nodes.x, r_s, allseg, theta_a, span)
+    points = tip_disc_rule(points, scene, method, nodes, r_s, allseg, theta_a, span)
     bpts, edge_of = boundary_pieces(nodes.x, r_s, bseg, bedge, bs, edges, method.boundary_order,
                                     blockers=cseg)
     own_side = side[bpts.owner]

@@ -20,6 +20,17 @@ test_radius, the node's spacing measure): it holds the tip or passes within one 
 it. Its points are replaced by those of the same rule (sectors, angular pieces between the
 kinks of r_max(theta)) with ``tip_radial`` Gauss points in r, ``tip_angular`` per angular
 piece (and on full discs).
+
+Without enrichment (seed 002's plain variant) the trial functions are smooth functions
+that jump (visibility) or kink (diffraction, transparency) across the shadow rays from
+the tip, and the k = 1 Gaussian weight kinks at r_I (slope -0.149), so every shape
+function derivative jumps on every support circle. Both lines cross the discs near the
+tip at radii a node-centred rule does not see, and there the rows of the plain SENT moved
+by ~1e-3 from one rule to the next, J by ~1 % (docs/theory.md, MLPG1, "The plain SENT
+and the J domain"). The discs crossed by a shadow ray (:func:`split_tip_discs`) are
+integrated with every ray split at the shadow rays and the support circles
+(:mod:`efgkit.quadrature.ray_splits`), ``split_radial`` Gauss points per radial piece
+and ``split_angular`` per angular piece (and on full discs).
 """
 
 from __future__ import annotations
@@ -27,22 +38,30 @@ from __future__ import annotations
 import numpy as np
 
 from ..quadrature.discs import disc_points
+from ..quadrature.ray_splits import split_disc_points
 from ..quadrature.rules import Points
 
-__all__ = ["near_tip_discs", "refine_tip_discs", "tip_disc_rule"]
+__all__ = ["near_tip_discs", "refine_tip_discs", "split_tip_discs", "tip_disc_rule"]
 
 
-def tip_disc_rule(points: Points, scene, method, x: np.ndarray, r_s: np.ndarray,
-                  segments: np.ndarray, theta_a: np.ndarray, span: np.ndarray) -> Points:
-    """The disc ``points`` of an MLPG discretisation (``method``, ``scene``) with the discs near
-    its crack tips refined (:func:`refine_tip_discs`, ``method.tip_radial`` x
-    ``method.tip_angular``) when an enrichment makes the integrands singular there; unchanged
-    without tips or without enrichment (the plain trial functions are not singular)."""
-    if method.enrichment == "none" or not scene.tips:
+def tip_disc_rule(points: Points, scene, method, nodes, r_s: np.ndarray, segments: np.ndarray,
+                  theta_a: np.ndarray, span: np.ndarray) -> Points:
+    """The disc ``points`` of an MLPG discretisation (``method``, ``scene``, ``nodes``) with
+    the discs near its crack tips integrated as their integrands need: with an enrichment
+    (r^(-1/2) derivatives) by a finer rule (:func:`refine_tip_discs`, ``method.tip_radial``
+    x ``method.tip_angular``); without one, under the Gauss rule, with their rays split at
+    the shadow rays and support circles (:func:`split_tip_discs`, ``method.split_radial``
+    x ``method.split_angular``). Unchanged without tips and for the seed's midpoint rule."""
+    if not scene.tips:
         return points
-    return refine_tip_discs(points, x, r_s, r_s / method.test_radius, segments, theta_a, span,
-                            np.array([t.x for t in scene.tips]), method.quadrature,
-                            method.tip_radial, method.tip_angular)
+    if method.enrichment != "none":
+        return refine_tip_discs(points, nodes.x, r_s, r_s / method.test_radius, segments,
+                                theta_a, span, np.array([t.x for t in scene.tips]),
+                                method.quadrature, method.tip_radial, method.tip_angular)
+    if method.quadrature != "gauss":
+        return points
+    return split_tip_discs(points, scene, nodes, r_s, segments, theta_a, span,
+                           method.split_radial, method.split_angular)
 
 
 def near_tip_discs(x: np.ndarray, r_s: np.ndarray, c: np.ndarray, tips: np.ndarray) -> np.ndarray:
@@ -90,3 +109,61 @@ def refine_tip_discs(points: Points, x: np.ndarray, r_s: np.ndarray, c: np.ndarr
     order = np.argsort(owner, kind="stable")
     return Points(np.concatenate([points.x[keep], fine.x])[order],
                   np.concatenate([points.w[keep], fine.w])[order], owner[order])
+
+
+
+def split_tip_discs(points: Points, scene, nodes, r_s: np.ndarray, segments: np.ndarray,
+                    theta_a: np.ndarray, span: np.ndarray, radial: int, angular: int) -> Points:
+    """``points`` with the discs that shadow rays cross integrated by
+    :func:`~efgkit.quadrature.ray_splits.split_disc_points` (``radial`` points per radial
+    piece, ``angular`` per angular piece and on full discs), each ray split at the shadow
+    rays and at the support circles of the nodes whose supports reach the disc.
+
+    The shadow ray of a node I whose support holds a tip starts at the tip, points along
+    tip - x_I and ends where it leaves the support (length r_I - d_I, d_I = |tip - x_I|);
+    a disc is crossed when its centre lies within r_sI + max(r_I - d_I) of the tip. Other
+    discs are unchanged; points stay sorted by owner.
+
+    Examples
+    --------
+    >>> from efgkit import Crack, Domain, Elastic, MLPG, Scene
+    >>> from efgkit.methods.local import discretize_local
+    >>> sc = Scene(Domain.rectangle(0, 0, 2, 2), Elastic(1.0, 0.3),
+    ...            cracks=(Crack([[0, 1], [1, 1]], (False, True)),))
+    >>> def areas(**kw):
+    ...     p = discretize_local(sc, MLPG(spacing=0.25, **kw)).points
+    ...     return p.n, np.bincount(p.owner, p.w)
+    >>> (n, a), (n_fine, a_fine) = areas(split_angular=8), areas(split_angular=128)
+    >>> n < n_fine, float(np.abs(a - a_fine).max()) < 1e-8   # the visible parts of the discs
+    (True, True)
+    """
+    origins, directions, lengths, near = [], [], [], []
+    for tip in scene.tips:  # few tips
+        v = tip.x - nodes.x
+        d = np.hypot(*v.T)
+        holds = (d < nodes.radius) & (d > 1e-9 * nodes.radius)
+        if not holds.any():
+            continue
+        length = nodes.radius[holds] - d[holds]
+        origins.append(np.broadcast_to(tip.x, (int(holds.sum()), 2)))
+        directions.append(v[holds] / d[holds, None])
+        lengths.append(length)
+        near.append(np.flatnonzero(d < r_s + length.max()))
+    if not near:
+        return points
+    near = np.unique(np.concatenate(near))
+    # support circles that reach a near disc: a box prefilter, then the exact distance
+    lo, hi = (nodes.x[near] - r_s[near, None]).min(axis=0), (nodes.x[near] + r_s[near, None]).max(axis=0)
+    cand = np.flatnonzero(np.all((nodes.x + nodes.radius[:, None] > lo) &
+                                 (nodes.x - nodes.radius[:, None] < hi), axis=1))
+    gap = np.hypot(*(nodes.x[cand, None] - nodes.x[near][None]).transpose(2, 0, 1))
+    circ = cand[(gap < nodes.radius[cand, None] + r_s[near][None]).any(axis=1)]
+    split = split_disc_points(nodes.x[near], r_s[near], segments, theta_a[near], span[near],
+                              radial, angular, np.concatenate(origins),
+                              np.concatenate(directions), np.concatenate(lengths),
+                              piece_angular=angular, circles=(nodes.x[circ], nodes.radius[circ]))
+    keep = ~np.isin(points.owner, near)
+    owner = np.concatenate([points.owner[keep], near[split.owner]])
+    order = np.argsort(owner, kind="stable")
+    return Points(np.concatenate([points.x[keep], split.x])[order],
+                  np.concatenate([points.w[keep], split.w])[order], owner[order])

@@ -102,6 +102,14 @@ class MLPG(MeshlessChoices):
         of the near-tip field. Default 20 x 64: the shear edge crack's cut force below
         the crack 7.05-7.22 at h = 0.25 ... 0.5 (statics: 7) against 6.80-7.83 with the
         disc rule there (7.24 / 7.14 / 7.16 at h = 0.35 with 12 x 32 / 20 x 64 / 40 x 128).
+    split_radial, split_angular : int
+        Without enrichment, under the Gauss rule: the discs that a shadow ray from a tip
+        crosses get every ray split where it crosses a shadow ray or a support circle,
+        ``split_radial`` points per radial piece and ``split_angular`` per angular piece
+        (:func:`~efgkit.methods.local_tips.split_tip_discs`). Default 3 x 48: plain SENT J
+        (40 across, mean over 1-4 mm) 0.426 % above FEM, 0.426 / 0.449 / 0.400 % with 4 x 48
+        / 4 x 64 / 12 x 96 (192 per piece), 0.488 / 0.164 % with 5 x 24 / 6 x 32 (the angular
+        count matters), against 1.77 % unsplit.
     order, refined_order, cell_size, tip_order :
         The background cells of the field quadrature (:func:`~efgkit.quadrature.cells.cell_points`)
         on which energies, errors and J integrals are integrated (MLPG's discs overlap:
@@ -171,6 +179,8 @@ class MLPG(MeshlessChoices):
     boundary_order: int = 8
     tip_radial: int = 20
     tip_angular: int = 64
+    split_radial: int = 3
+    split_angular: int = 48
     order: int = 4
     refined_order: int = 6
     cell_size: float | None = None
@@ -207,7 +217,8 @@ class MLPG(MeshlessChoices):
         check_choice("basis", self.basis, BASES)
         check_choice("quadrature", self.quadrature, MLPG_QUADRATURES)
         for name in ("radial", "angular", "cut_angular", "boundary_order", "order",
-                     "refined_order", "tip_order", "tip_radial", "tip_angular"):
+                     "refined_order", "tip_order", "tip_radial", "tip_angular", "split_radial",
+                     "split_angular"):
             check_positive(name, getattr(self, name), integer=True)
         if self.cell_size is not None:
             check_positive("cell_size", self.cell_size)

@@ -38,7 +38,7 @@ from scipy.special import roots_jacobi
 from .rules import Points, check_count, gauss_legendre
 
 __all__ = ["RULES", "edge_segments", "polar_rule", "ray_lengths", "near_pairs", "sectors", "disc_points",
-           "boundary_pieces"]
+           "disc_rays", "polar_points", "sorted_points", "boundary_pieces"]
 
 RULES = ("midpoint", "gauss")
 CHUNK = 2_000_000  # (ray or node, segment) pairs per vectorised block
@@ -237,18 +237,33 @@ def disc_points(x: np.ndarray, r: np.ndarray, segments: np.ndarray, theta_a: np.
     >>> pts.n, round(float(pts.w.sum() - np.pi), 14)   # 5 x 8, the area pi r^2
     (40, 0.0)
     """
+    out = []
+    for k, theta, dth, rm in disc_rays(x, r, segments, theta_a, span, rule, angular, tol,
+                                       piece_angular):
+        t, wt, rho, wr = polar_rule(rule, radial, 1, True)
+        rad = rm[:, :, None] * rho[None, None]  # (m, a, n_r)
+        w = dth[:, :, None] * rm[:, :, None] ** 2 * wr[None, None]
+        out.append(polar_points(x[k], k, theta, rad, w))
+    return sorted_points(out)
+
+
+def disc_rays(x: np.ndarray, r: np.ndarray, segments: np.ndarray, theta_a: np.ndarray,
+              span: np.ndarray, rule: str = "midpoint", angular: int = 8, tol: float = 1e-6,
+              piece_angular: int | None = None):
+    """The angular part of :func:`disc_points`: for each kind of disc (full, sector, cut),
+    ``(k (m,), theta (m, a), dtheta (m, a), r_max (m, a))``: the discs' indices, the ray
+    angles, their angular weights and the ray lengths (to the circle or the first segment)."""
     full = np.isclose(span, 2 * np.pi)
     cut = np.zeros(len(x), bool)
     if rule == "gauss" and len(segments):
         cut[near_pairs(x, r, segments)[0]] = True
-    out = []
     for kind in ("full", "sector", "pieces"):
         k = np.flatnonzero(full & ~cut if kind == "full" else ~full & ~cut if kind == "sector"
                            else cut)
         if len(k) == 0:
             continue
         na = piece_angular if kind == "pieces" and piece_angular is not None else angular
-        t, wt, rho, wr = polar_rule(rule, radial, na, kind == "full")
+        t, wt, _, _ = polar_rule(rule, 1, na, kind == "full")
         if kind == "pieces":  # Gauss on the angular pieces between the kinks of r_max
             start, length = angular_pieces(x[k], r[k], segments, theta_a[k], span[k])
             theta = (start[:, :, None] + length[:, :, None] * t).reshape(len(k), -1)
@@ -256,17 +271,25 @@ def disc_points(x: np.ndarray, r: np.ndarray, segments: np.ndarray, theta_a: np.
         else:
             theta = theta_a[k, None] + span[k, None] * t[None]  # (m, a)
             dth = span[k, None] * wt[None]
-        rm = ray_lengths(x[k], theta, r[k], segments, tol * r[k])  # (m, a)
-        rad = rm[:, :, None] * rho[None, None]  # (m, a, n_r)
-        w = dth[:, :, None] * rm[:, :, None] ** 2 * wr[None, None]
-        px = x[k, None, None, 0] + rad * np.cos(theta)[..., None]
-        py = x[k, None, None, 1] + rad * np.sin(theta)[..., None]
-        own = np.broadcast_to(k[:, None, None], rad.shape)
-        keep = w > 0
-        out.append(Points(np.column_stack([px[keep], py[keep]]), w[keep], own[keep]))
-    if not out:
+        yield k, theta, dth, ray_lengths(x[k], theta, r[k], segments, tol * r[k])
+
+
+def polar_points(centre: np.ndarray, k: np.ndarray, theta: np.ndarray, rad: np.ndarray,
+                  w: np.ndarray) -> Points:
+    """Points at radii ``rad (m, a, p)`` on the rays ``theta (m, a)`` from ``centre (m, 2)``,
+    owners ``k (m,)``; zero weights dropped."""
+    px = centre[:, None, None, 0] + rad * np.cos(theta)[..., None]
+    py = centre[:, None, None, 1] + rad * np.sin(theta)[..., None]
+    own = np.broadcast_to(k[:, None, None], rad.shape)
+    keep = w > 0
+    return Points(np.column_stack([px[keep], py[keep]]), w[keep], own[keep])
+
+
+def sorted_points(parts) -> Points:
+    """The points of ``parts`` concatenated, stably sorted by owner."""
+    if not parts:
         return Points(np.zeros((0, 2)), np.zeros(0), np.zeros(0, np.int64))
-    pts = Points.concatenate(*out)
+    pts = Points.concatenate(*parts)
     order = np.argsort(pts.owner, kind="stable")
     return Points(pts.x[order], pts.w[order], pts.owner[order])
 
