@@ -43,7 +43,7 @@ def test_long_waves_converge_at_second_order(linear):
 
 
 def test_quadratic_basis_is_far_less_dispersive(quadratic, linear):
-    # at 6 h (the impact pulse's shortest S wave at 1 mm, verification/wave_diffraction.py):
+    # at 6 h (near the impact pulse's shortest S wave at 1 mm, 5.4 h: verification/wave_diffraction.py):
     # measured -1.4 to -1.6 % (quadratic, d_max 2.25) against -18 % (linear, d_max 2)
     q, lin = _error(quadratic, 6.0), _error(linear, 6.0)
     assert np.all(np.abs(q) < 0.045)
