@@ -12,10 +12,10 @@ from .dsif import DynamicDSIF, dynamic_dsif, quasi_static_dsif
 from .integrate import BLOWUP_FACTOR, InstabilityError, State, initial_state, integrate, load_stepping
 from .mlpg_weight import explicit_mlpg
 from .result import DynamicSolution
-from .spectrum import dense_operator, growth_rate, modal_energy, row_symbol, stable_step
+from .spectrum import dense_operator, growth_rate, modal_energy, phase_speeds, row_symbol, stable_step
 from .system import Dynamics, dynamics, fit_coefficients
 
 __all__ = ["BLOWUP_FACTOR", "DynamicDSIF", "DynamicSolution", "Dynamics", "InstabilityError", "State",
            "dense_operator", "dynamic_dsif", "dynamics", "explicit_mlpg", "fit_coefficients", "growth_rate",
-           "initial_state", "integrate", "load_stepping", "modal_energy", "quasi_static_dsif", "row_symbol",
-           "stable_step"]
+           "initial_state", "integrate", "load_stepping", "modal_energy", "phase_speeds", "quasi_static_dsif",
+           "row_symbol", "stable_step"]

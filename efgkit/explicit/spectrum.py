@@ -5,6 +5,7 @@ matrices of :func:`~efgkit.explicit.system.dynamics`; :func:`growth_rate` the ra
 fastest-growing mode of an unsymmetric (MLPG1) K, which no step size removes;
 :func:`row_symbol` the Fourier symbol of one row of ``M^-1 K``, whose sign away from the
 boundary tells where such modes come from (docs/theory.md, "Explicit MLPG");
+:func:`phase_speeds` the speeds of plane waves that symbol gives (numerical dispersion);
 :func:`modal_energy` the energy the scheme conserves when K is not symmetric but ``M^-1 K``
 has a real non-negative spectrum (small models).
 """
@@ -17,7 +18,7 @@ from scipy.sparse.linalg import LinearOperator, eigs, eigsh
 
 from .system import Dynamics
 
-__all__ = ["dense_operator", "growth_rate", "modal_energy", "row_symbol", "stable_step"]
+__all__ = ["dense_operator", "growth_rate", "modal_energy", "phase_speeds", "row_symbol", "stable_step"]
 
 
 def _operator(dyn: Dynamics):
@@ -172,6 +173,58 @@ def row_symbol(dyn: Dynamics, node: int, wavenumbers: np.ndarray) -> np.ndarray:
     e = np.exp(1j * (x - x[node]) @ xi.T)  # (n_nodes, k)
     S = np.stack([[rows[p, q::2] @ e for q in range(2)] for p in range(2)])  # (2, 2, k)
     return np.moveaxis(S, -1, 0) / dyn.m[2 * node]
+
+
+def phase_speeds(dyn: Dynamics, node: int, wavenumbers: np.ndarray,
+                 dt: float | None = None) -> np.ndarray:
+    """Phase speeds of the two plane waves ``exp(i (xi . x - omega t))`` at ``wavenumbers
+    (k, 2)`` in the interior of a regular grid: numerical dispersion.
+
+    ``omega^2`` are the eigenvalues of the symmetric part of :func:`row_symbol` at node
+    ``node`` (a node far enough from the boundary that its rows see none of it); the speeds
+    ``omega / |xi|`` come sorted, shape (k, 2): the shear-like branch, then the
+    dilatational one (exact: ``c_2`` and ``c_1`` of the material at every ``xi``). With
+    ``dt`` the speeds of central differences (seed 002 Eq. 28) at that step,
+    ``omega_dt = (2 / dt) asin(omega dt / 2)`` (the scheme's phase lead; at the critical
+    step of the interior ``omega dt / 2`` reaches 1 at the grid's shortest waves).
+
+    Examples
+    --------
+    Long waves on a grid of spacing 1 run at the material's speeds:
+
+    >>> from efgkit import EFG, Domain, Elastic, Scene
+    >>> from efgkit.explicit import dynamics
+    >>> mat = Elastic(1.0, 0.25, "strain", rho=1.0)
+    >>> sc = Scene(Domain.rectangle(0, 0, 10, 10), mat, duration=1.0)
+    >>> dyn = dynamics(sc, EFG(spacing=1.0))
+    >>> c = phase_speeds(dyn, 60, [[2 * np.pi / 40, 0.0]])[0]
+    >>> np.round(c / [mat.c_shear, mat.c_dilatational] - 1, 3)
+    array([-0.004, -0.004])
+
+    Raises
+    ------
+    ValueError
+        A zero wavenumber (no speed), or ``dt`` beyond the stability of the wave
+        (``omega dt / 2 > 1``).
+    """
+    xi = np.asarray(wavenumbers, dtype=float)
+    S = row_symbol(dyn, node, xi)
+    k = np.hypot(xi[:, 0], xi[:, 1])
+    if np.any(k <= 0):
+        raise ValueError("wavenumbers must be non-zero (a plane wave of zero wavenumber has no "
+                         f"speed), got {xi[k <= 0][0].tolist()}")
+    lam = np.linalg.eigvalsh(0.5 * (S + np.conj(np.swapaxes(S, 1, 2))))  # (k, 2) ascending
+    omega = np.sqrt(np.maximum(lam, 0.0))
+    if dt is not None:
+        if not (np.isfinite(dt) and dt > 0):
+            raise ValueError(f"dt must be finite and > 0, got {dt!r}")
+        z = omega * dt / 2
+        if np.any(z > 1):
+            raise ValueError(f"dt = {dt:.6g} is above the stable step of the waves at these "
+                             f"wavenumbers (omega dt / 2 = {z.max():.4g} > 1): central differences "
+                             "do not propagate them; take dt <= the critical step (stable_step)")
+        omega = 2 / dt * np.arcsin(z)
+    return omega / k[:, None]
 
 
 def modal_energy(dyn: Dynamics, rtol: float = 1e-9):
