@@ -152,7 +152,7 @@ def run(method, h: float, n_out: int, enrichment: str = "none", terms: bool = Fa
 
 def factors(h: float = 0.01, n_out: int = 40) -> dict:
     """The trial-function factors between the ``efg`` and MLPG rows, one change at a time
-    (docs/theory.md, "Explicit MLPG"; not part of :func:`main`, about 5 minutes):
+    (docs/theory.md, "Explicit MLPG"; not part of :func:`main`: 386 s on the shared machine):
     ``{row/change: (error of K from J', error of K interaction)}``, the change applied to
     the row's method; ``.../lumped_acceleration`` is J' without the acceleration recovery
     and ``.../safety 0.45`` half the step, on the row's own method."""
