@@ -11,6 +11,7 @@ from efgkit import EFG, MLPG, Crack, Domain, Elastic, Scene, Support
 from efgkit.explicit import InstabilityError, dense_operator, dynamics, integrate, stable_step
 from efgkit.explicit.galerkin_form import galerkin_discretization, resolve_form
 from efgkit.methods.discretize import discretize
+from efgkit.methods.local import discretize_local
 from efgkit.problem.history import Stepping
 
 MAT = Elastic(1000.0, 0.3, "stress", rho=2.0)
@@ -94,11 +95,12 @@ def test_enrichment_is_taken_by_the_galerkin_form_only():
                   **INIT)
     method = MLPG(spacing=0.25, explicit_form="galerkin", enrichment="extrinsic_mls",
                   crack_rule="diffraction")
-    dyn = dynamics(scene, method)
+    disc = discretize_local(scene, method)  # once for both masses
+    dyn = dynamics(scene, method, disc)
     assert dyn.n_dofs == 2 * dyn.disc.nodes.n + 2 and np.all(dyn.m > 0)
     K = dyn.K.toarray()
     assert np.abs(K - K.T).max() <= 1e-14 * np.abs(K).max()
-    row = dynamics(scene, method, enrichment_mass="abs_row_sum")
+    row = dynamics(scene, method, disc, enrichment_mass="abs_row_sum")
     np.testing.assert_array_equal(row.m[:-2], dyn.m[:-2])  # nodal masses unchanged
     assert np.all(row.m[-2:] >= dyn.m[-2:])  # |row sum| >= its diagonal entry
     with pytest.raises(ValueError, match=r"explicit MLPG1 \(explicit_form='petrov_galerkin'\) "
