@@ -7,10 +7,11 @@ import warnings
 import numpy as np
 import pytest
 
-from efgkit import MLPG, Crack, Domain, Elastic, Scene, Support
+from efgkit import EFG, MLPG, Crack, Domain, Elastic, Scene, Support
 from efgkit.explicit import InstabilityError, dense_operator, dynamics, integrate, stable_step
-from efgkit.explicit.galerkin_form import galerkin_discretization
+from efgkit.explicit.galerkin_form import galerkin_discretization, resolve_form
 from efgkit.methods.discretize import discretize
+from efgkit.methods.local import discretize_local
 from efgkit.problem.history import Stepping
 
 MAT = Elastic(1000.0, 0.3, "stress", rho=2.0)
@@ -63,11 +64,54 @@ def test_crack_face_pressure_loads_the_faces():
     assert sel.sum() == 4 and np.all(np.sign(Fy[sel]) == face[sel])
 
 
+def test_explicit_runs_default_to_the_galerkin_form_and_say_so():
+    # explicit_form="auto" (the default): the Galerkin form, with a warning naming the opt-in
+    # MLPG1 form; "galerkin" given: silent; "petrov_galerkin": MLPG1 (unsymmetric K)
+    scene = Scene(Domain.rectangle(0, 0, 2, 1), MAT, **INIT)
+    with pytest.warns(UserWarning, match=r"steps the symmetric Galerkin form of MLPG's trial "
+                      r"functions .*explicit_form='galerkin'.* to silence this, or "
+                      r"explicit_form='petrov_galerkin' to step MLPG1"):
+        dyn = dynamics(scene, MLPG(spacing=0.25))
+    assert dyn.form == "galerkin" and dyn.disc.test is None and dyn.disc.method.weight == "gaussian"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        given = dynamics(scene, MLPG(spacing=0.25, explicit_form="galerkin"))
+    np.testing.assert_array_equal(given.K.toarray(), dyn.K.toarray())
+    with pytest.warns(UserWarning, match="trial weight 'gaussian' is replaced by 'cubic'"):
+        pg = dynamics(scene, MLPG(spacing=0.25, explicit_form="petrov_galerkin"))
+    assert pg.form == "petrov_galerkin" and pg.disc.test is not None
+    sol = integrate(scene, MLPG(spacing=0.25, explicit_form="galerkin"), dyn=given, steps=2,
+                    dsif=None)
+    assert sol.info["form"] == "galerkin" and "MLPG form galerkin" in sol.summary()
+    with pytest.raises(TypeError, match="method must be an MLPG description, got EFG"):
+        resolve_form(EFG(spacing=0.25))
+
+
+def test_enrichment_is_taken_by_the_galerkin_form_only():
+    # the Galerkin form's enrichment rows are those of EFG: masses as for EFG (diagonal of the
+    # consistent block, or abs row sum); MLPG1's enrichment rows have no sub-domain mass
+    scene = Scene(Domain.rectangle(0, 0, 2, 1), Elastic(1000.0, 0.3, "strain", rho=2.0),
+                  supports=CLAMP, cracks=(Crack([[0.0, 0.5], [1.0, 0.5]], tips=(False, True)),),
+                  **INIT)
+    method = MLPG(spacing=0.25, explicit_form="galerkin", enrichment="extrinsic_mls",
+                  crack_rule="diffraction")
+    disc = discretize_local(scene, method)  # once for both masses
+    dyn = dynamics(scene, method, disc)
+    assert dyn.n_dofs == 2 * dyn.disc.nodes.n + 2 and np.all(dyn.m > 0)
+    K = dyn.K.toarray()
+    assert np.abs(K - K.T).max() <= 1e-14 * np.abs(K).max()
+    row = dynamics(scene, method, disc, enrichment_mass="abs_row_sum")
+    np.testing.assert_array_equal(row.m[:-2], dyn.m[:-2])  # nodal masses unchanged
+    assert np.all(row.m[-2:] >= dyn.m[-2:])  # |row sum| >= its diagonal entry
+    with pytest.raises(ValueError, match=r"explicit MLPG1 \(explicit_form='petrov_galerkin'\) "
+                       "runs without tip enrichment only"):
+        dynamics(scene, MLPG(spacing=0.25, enrichment="pu", explicit_form="petrov_galerkin"))
+
+
 def test_bad_input():
-    with pytest.raises(ValueError, match=r"explicit_form must be one of \('petrov_galerkin', "
-                       r"'galerkin'\), got 'bubnov'"):
+    with pytest.raises(ValueError, match=r"explicit_form must be one of \('auto', "
+                       r"'petrov_galerkin', 'galerkin'\), got 'bubnov'"):
         MLPG(spacing=0.25, explicit_form="bubnov")
-    from efgkit import EFG
     efg = discretize(Scene(Domain.rectangle(0, 0, 1, 1), MAT), EFG(spacing=0.5))
     with pytest.raises(ValueError, match="disc must be an MLPG discretisation"):
         galerkin_discretization(efg)

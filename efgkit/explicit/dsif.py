@@ -57,9 +57,10 @@ the centre-cracked plate on the seed's 1 mm grid to 0.89 % (mode I) and 0.69 % (
 path dependence, from 2.07 % and 1.98 % without enrichment (4 steps; 16 do not help there,
 2.10 %). With the diagonal mass the enriched runs of ``verification/freund.py`` (spacing
 0.01) come within 0.44 % (extrinsic MLS) and 4.4 % (PU) of Freund's K_I, from 9.3 % and
-13.6 % with ``a^n``. MLPG
+13.6 % with ``a^n``. MLPG1
 keeps ``a^n``: its consistent mass is the Petrov-Galerkin ``int v_I psi_J`` of the
-sub-domains, not assembled.
+sub-domains, not assembled; MLPG's Galerkin form (the default of explicit MLPG runs) takes
+the steps as EFG.
 
 Crack-face pressure is constant in time in a scene (it acts from ``t = 0`` on, a
 Heaviside step, like every load without a history: ``explicit.system``), so the face
@@ -153,7 +154,7 @@ class TipOperators:
         acceleration ``a^n (n_dofs,)`` towards the consistent one (module docstring), then
         the constraint projection of the run, if any; enrichment unknowns only where their
         lumped mass bounds their absolute row sum of ``M_C`` (module docstring).
-        MLPG and ``iterations = 0``: ``a^n``."""
+        MLPG1 and ``iterations = 0``: ``a^n``."""
         dyn, disc = self.dyn, self.dyn.disc
         if iterations == 0 or disc.test is not None:
             return a
@@ -320,7 +321,8 @@ class DynamicDSIF:
     mass_iterations : int
         Jacobi steps of the acceleration recovery of the inertia term (module docstring;
         default 4; 0: the driver's lumped-mass acceleration; 16 with PU enrichment and
-        ``enrichment_mass="abs_row_sum"`` on coarse grids). EFG only.
+        ``enrichment_mass="abs_row_sum"`` on coarse grids). EFG and MLPG's Galerkin form
+        (MLPG1 keeps the driver's).
     decomposition : bool
         Also give ``"J_decomposed"``: K_I, K_II from ``J'_1`` of the symmetric and
         antisymmetric parts of the field about the crack line (no ``J'_2``;

@@ -2,7 +2,7 @@
 
 Keys (docs/scenes.md, "``[dsif]``"):
 
-* ``enrichment_mass``: the lumped mass of the EFG enrichment unknowns,
+* ``enrichment_mass``: the lumped mass of the enrichment unknowns (EFG, MLPG's Galerkin form),
   :func:`~efgkit.explicit.system.dynamics` ``enrichment_mass`` (``"diagonal"`` or
   ``"abs_row_sum"``, :mod:`efgkit.system.mass`); default ``"diagonal"``;
 * ``mass_iterations``: Jacobi steps of the acceleration recovery of the inertia term of

@@ -26,11 +26,19 @@ so the masses add up to ``rho`` times the area (MLPG1's disc masses do not). ``b
 the prescribed values as forcing; ``"modified_mls"`` and ``"collocation"`` as for MLPG1's
 explicit runs (fixed coefficients; rows imposed by the M-orthogonal projection, which keeps
 the constrained operator symmetric in the M inner product). This is not MLPG1: static solves
-and the default explicit form keep the local Petrov-Galerkin rows.
+keep the local Petrov-Galerkin rows.
+
+It is the default of explicit runs (``explicit_form="auto"``, :func:`resolve_form`, with a
+warning saying so): explicit MLPG1 (``explicit_form="petrov_galerkin"``) blows up at any
+step after a number of steps set by its growing modes (on the free 2 x 1 plate of
+``verification/stability.py`` at h = 0.125 and 0.98 dt_c: 38 steps with the Gaussian
+weight, 1882 with the cubic weight that ``explicit_weight="auto"`` steps in its place), so
+it is kept for study only (docs/theory.md, "Explicit MLPG").
 """
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import replace
 
 import numpy as np
@@ -38,12 +46,47 @@ from scipy.sparse import csr_array
 
 from ..methods.boundary import essential_conditions, loads
 from ..methods.discretize import Discretization
+from ..methods.mlpg import MLPG
 from ..system.assemble import stiffness
 from ..system.constraints import penalty
 from ..system.mass import row_sum_mass
 from .moving import split_values, still_scene
 
-__all__ = ["galerkin_discretization", "galerkin_system"]
+__all__ = ["galerkin_discretization", "galerkin_system", "resolve_form"]
+
+
+def resolve_form(method: MLPG, warn: bool = True) -> MLPG:
+    """``method`` with the equations of its explicit runs decided (``method.explicit_form``).
+
+    ``"auto"`` becomes ``"galerkin"`` (module docstring), with a ``UserWarning`` saying so
+    when ``warn``; ``"galerkin"`` and ``"petrov_galerkin"`` stay, silently.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> with warnings.catch_warnings():
+    ...     warnings.simplefilter("ignore")
+    ...     resolve_form(MLPG(spacing=0.1)).explicit_form
+    'galerkin'
+    >>> resolve_form(MLPG(spacing=0.1, explicit_form="petrov_galerkin")).explicit_form
+    'petrov_galerkin'
+    """
+    if not isinstance(method, MLPG):
+        raise TypeError(f"method must be an MLPG description, got {type(method).__name__}")
+    if method.explicit_form != "auto":
+        return method
+    if warn:
+        warnings.warn(
+            "explicit MLPG: this run steps the symmetric Galerkin form of MLPG's trial "
+            "functions on the field cells (MLPG.explicit_form='auto'), not MLPG1's local "
+            "Petrov-Galerkin rows, whose M^-1 K has modes that grow at any time step (a free "
+            "2 x 1 plate at h = 0.125 and 0.98 dt_c blows up after 1882 steps with the cubic "
+            "weight, 38 with the Gaussian; the Galerkin form runs 1e4 steps with an energy "
+            "drift below 1e-12; docs/theory.md, 'Explicit MLPG'). Static solves keep MLPG1. "
+            "Give MLPG(explicit_form='galerkin') (scene file: [mlpg] explicit_form = "
+            "\"galerkin\") to silence this, or explicit_form='petrov_galerkin' to step MLPG1 "
+            "(for study: it blows up)", UserWarning, stacklevel=4)
+    return replace(method, explicit_form="galerkin")
 
 
 def galerkin_discretization(disc: Discretization) -> Discretization:
@@ -56,7 +99,8 @@ def galerkin_discretization(disc: Discretization) -> Discretization:
                    test=None, local=None)
 
 
-def galerkin_system(scene, disc: Discretization, parts: list, alpha: float | None):
+def galerkin_system(scene, disc: Discretization, parts: list, alpha: float | None,
+                    enrichment_mass: str = "diagonal"):
     """K, lumped M and loads of the Galerkin form (module docstring).
 
     Parameters
@@ -68,6 +112,9 @@ def galerkin_system(scene, disc: Discretization, parts: list, alpha: float | Non
         The scene split by load history (one load vector each).
     alpha : float or None
         Penalty factor (force / length^3) of ``bc="penalty"`` with supports, else None.
+    enrichment_mass : {"diagonal", "abs_row_sum"}
+        The mass of tip-enrichment unknowns (:func:`~efgkit.system.mass.row_sum_mass`), as
+        for EFG.
 
     Returns
     -------
@@ -86,7 +133,8 @@ def galerkin_system(scene, disc: Discretization, parts: list, alpha: float | Non
     g = galerkin_discretization(disc)
     mat = scene.material
     K = csr_array(stiffness(g.shape, g.points.w, mat.D))
-    m = row_sum_mass(g.shape, g.points.w, mat.rho, node_x=g.nodes.x, area=scene.domain.area)
+    m = row_sum_mass(g.shape, g.points.w, mat.rho, node_x=g.nodes.x, area=scene.domain.area,
+                     enrichment=enrichment_mass)
     F = np.column_stack([loads(replace(g, scene=s)) for s, _ in parts]) if parts \
         else np.zeros((g.n_dofs, 0))
     f_bc, Q, qh = np.zeros(g.n_dofs), None, ()

@@ -53,8 +53,9 @@ BLOWUP_FACTOR = 1e3  # kinetic energy over the energy put in that means instabil
 _MLPG_REMEDY = ("the unsymmetric MLPG1 K has modes that grow at any step "
                 "(efgkit.explicit.growth_rate gives their rate): a shorter run, "
                 "MLPG(explicit_weight='cubic') if the Gaussian was stepped (no negative real "
-                "eigenvalues: slower growth), MLPG(explicit_form='galerkin') (the symmetric "
-                "form of the same trial functions: stable), or EFG (docs/theory.md, "
+                "eigenvalues: slower growth), the Galerkin form (MLPG's default for explicit "
+                "runs: explicit_form='auto' or 'galerkin'; the symmetric form of the same trial "
+                "functions: stable), or EFG (docs/theory.md, "
                 "'Explicit MLPG')")
 
 
@@ -325,6 +326,6 @@ def integrate(scene: Scene, method: EFG | MLPG, stepping: Stepping | None = None
                "total": t_end - t_all + sum(dyn.disc.timings.values())}
     info = {"dt": dt, "dt_critical": dt_crit, "lambda_max": lam, "dt_ratio": dt / dt_crit,
             "steps": n_total, "first_step": n0, "output_every": every, "energy_drift": drift,
-            "energy_scale": scale, "bc": dyn.bc,
+            "energy_scale": scale, "bc": dyn.bc, "form": dyn.form,
             "steps_per_second": n_total / max(t_end - t_loop - rec.seconds, 1e-300)}
     return DynamicSolution(dyn, rec.arrays(), final, info, timings)

@@ -1,4 +1,5 @@
-"""The trial weight of explicit MLPG1 runs (``MLPG.explicit_weight``).
+"""The trial weight of explicit MLPG1 runs (``MLPG.explicit_weight``; MLPG1 explicit runs are
+opt-in: ``MLPG(explicit_form="petrov_galerkin")``).
 
 MLPG1 pairs the quartic-spline test function of the disc (seed 002 Eq. 8) with the MLS trial
 functions. Away from the boundary its ``M^-1 K`` is translation invariant, and its Fourier
@@ -32,9 +33,11 @@ EXPLICIT_AUTO_WEIGHT = "cubic"  # what explicit_weight="auto" puts in place of t
 def explicit_mlpg(method: MLPG, warn: bool = True) -> MLPG:
     """``method`` with the trial weight of explicit runs (``method.explicit_weight``).
 
-    ``"auto"``: the Gaussian becomes the cubic spline (module docstring), with a
-    ``UserWarning`` saying so when ``warn``; the quartic and cubic splines stay, and so does
-    every weight with ``explicit_form="galerkin"`` (a symmetric K).
+    ``"auto"``: with ``explicit_form="petrov_galerkin"`` (MLPG1) the Gaussian becomes the
+    cubic spline (module docstring), with a ``UserWarning`` saying so when ``warn``; the
+    quartic and cubic splines stay, and so does every weight with the Galerkin form
+    (``explicit_form`` "galerkin" or "auto", :mod:`~efgkit.explicit.galerkin_form`: a
+    symmetric K).
     ``"same"``: ``method.weight``. A weight name: that weight.
 
     Examples
@@ -42,8 +45,10 @@ def explicit_mlpg(method: MLPG, warn: bool = True) -> MLPG:
     >>> import warnings
     >>> with warnings.catch_warnings():
     ...     warnings.simplefilter("ignore")
-    ...     explicit_mlpg(MLPG(spacing=0.1)).weight
+    ...     explicit_mlpg(MLPG(spacing=0.1, explicit_form="petrov_galerkin")).weight
     'cubic'
+    >>> explicit_mlpg(MLPG(spacing=0.1)).weight   # the default Galerkin form keeps it
+    'gaussian'
     >>> explicit_mlpg(MLPG(spacing=0.1, explicit_weight="same")).weight
     'gaussian'
     >>> explicit_mlpg(MLPG(spacing=0.1, weight="quartic")).weight
@@ -56,7 +61,7 @@ def explicit_mlpg(method: MLPG, warn: bool = True) -> MLPG:
         return method
     if choice != "auto":
         return replace(method, weight=choice)
-    if method.weight != "gaussian" or method.explicit_form == "galerkin":
+    if method.weight != "gaussian" or method.explicit_form != "petrov_galerkin":
         return method
     if warn:
         warnings.warn(
@@ -67,6 +72,7 @@ def explicit_mlpg(method: MLPG, warn: bool = True) -> MLPG:
             "against 1882 with the cubic spline; docs/theory.md, 'Explicit MLPG'). Static "
             "solves keep 'gaussian'. To step the Gaussian anyway give "
             "MLPG(explicit_weight='same') (scene file: [mlpg] explicit_weight = \"same\"); "
-            "for runs stable at any length MLPG(explicit_form='galerkin')",
+            "for runs stable at any length the Galerkin form (MLPG's default for explicit "
+            "runs, explicit_form='auto' or 'galerkin')",
             UserWarning, stacklevel=4)
     return replace(method, weight=EXPLICIT_AUTO_WEIGHT)

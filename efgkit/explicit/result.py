@@ -93,7 +93,8 @@ class DynamicSolution:
         i = self.info
         h = self.history
         lines = [f"scene     {self.scene.name}: {i['steps']} steps of dt {i['dt']:.4g} "
-                 f"({i['dt_ratio']:.3f} of the critical {i['dt_critical']:.4g}, bc {i['bc']}), "
+                 f"({i['dt_ratio']:.3f} of the critical {i['dt_critical']:.4g}, bc {i['bc']}"
+                 + (f", MLPG form {i['form']}" if i.get("form") else "") + "), "
                  f"t = {h['t'][0]:.4g} .. {h['t'][-1]:.4g}",
                  f"nodes     {self.sizes()['n_nodes']}, {self.dyn.n_dofs} dofs; "
                  f"{i['steps_per_second']:.1f} steps/s",

@@ -156,7 +156,8 @@ def row_symbol(dyn: Dynamics, node: int, wavenumbers: np.ndarray) -> np.ndarray:
     >>> from efgkit import MLPG, Domain, Elastic, Scene
     >>> from efgkit.explicit import dynamics
     >>> sc = Scene(Domain.rectangle(0, 0, 1, 1), Elastic(1.0, 0.3, rho=1.0), duration=1.0)
-    >>> dyn = dynamics(sc, MLPG(spacing=0.25, quadrature="midpoint", explicit_weight="same"))
+    >>> dyn = dynamics(sc, MLPG(spacing=0.25, quadrature="midpoint", explicit_weight="same",
+    ...                         explicit_form="petrov_galerkin"))     # MLPG1 itself
     >>> S = row_symbol(dyn, 12, np.zeros((1, 2)))   # xi = 0: rigid translations
     >>> bool(np.abs(S).max() < 1e-10)
     True

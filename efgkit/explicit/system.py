@@ -28,9 +28,11 @@ form is in K (its prescribed values in ``f_bc``); ``"modified_mls"``: as above;
 by the projection (the equations of those nodes are kept, with the constraint's reaction,
 instead of replaced as in the static solve). K is not symmetric: docs/theory.md
 ("Explicit MLPG") on its spectrum and the energy balance; the trial weight of explicit runs
-is ``MLPG.explicit_weight`` (:func:`~efgkit.explicit.mlpg_weight.explicit_mlpg`);
-``MLPG.explicit_form="galerkin"`` steps the symmetric Galerkin form of the same trial
-functions instead (:mod:`efgkit.explicit.galerkin_form`).
+is ``MLPG.explicit_weight`` (:func:`~efgkit.explicit.mlpg_weight.explicit_mlpg`). All that
+is MLPG1 (``MLPG.explicit_form="petrov_galerkin"``, opt-in): by default
+(``explicit_form="auto"``, with a warning) explicit MLPG runs step the symmetric Galerkin
+form of the same trial functions instead (:mod:`efgkit.explicit.galerkin_form`), which also
+takes tip enrichment (``enrichment_mass`` as for EFG).
 """
 
 from __future__ import annotations
@@ -55,7 +57,7 @@ from ..static import DEFAULT_PENALTY, DEFAULT_STABILISATION
 from ..system.assemble import stiffness
 from ..system.constraints import lagrange, modified_variational, penalty
 from ..system.mass import ENRICHMENT_MASSES, row_sum_mass
-from .galerkin_form import galerkin_system
+from .galerkin_form import galerkin_system, resolve_form
 from .mlpg_weight import explicit_mlpg
 from .moving import split_values, still_scene
 
@@ -118,6 +120,9 @@ class Dynamics:
         Fixed coefficients (bc="modified_mls").
     bc : str
     timings : dict
+    form : str or None
+        The equations of an MLPG run, ``"petrov_galerkin"`` (MLPG1) or ``"galerkin"``
+        (:mod:`efgkit.explicit.galerkin_form`); None for EFG.
     Q : ndarray (r, k) or None; q_histories : tuple (k,)
         Moving supports (:mod:`efgkit.explicit.moving`): the constraint values are
         ``prescribed(t) = q_0 + Q g(t)`` (``q_0``: ``projection.q`` or ``fixed_values``).
@@ -138,6 +143,7 @@ class Dynamics:
     timings: dict = field(default_factory=dict)
     Q: np.ndarray | None = None
     q_histories: tuple = ()
+    form: str | None = None
 
     @property
     def n_dofs(self) -> int:
@@ -213,7 +219,7 @@ def dynamics(scene: Scene, method: EFG | MLPG, disc: Discretization | None = Non
              enrichment_mass: str = "diagonal") -> Dynamics:
     """Assemble ``M u'' + K u = f(t)`` for ``scene`` (module docstring).
 
-    ``enrichment_mass``: the lumped mass of EFG enrichment unknowns,
+    ``enrichment_mass``: the lumped mass of enrichment unknowns (EFG, MLPG's Galerkin form),
     :func:`~efgkit.system.mass.row_sum_mass` ``enrichment`` (``"abs_row_sum"`` keeps the
     unenriched critical step).
 
@@ -237,7 +243,7 @@ def dynamics(scene: Scene, method: EFG | MLPG, disc: Discretization | None = Non
         raise ValueError(f"enrichment_mass must be one of {ENRICHMENT_MASSES}, got "
                          f"{enrichment_mass!r}")
     if isinstance(method, MLPG):
-        return local_dynamics(scene, method, disc)
+        return local_dynamics(scene, method, disc, enrichment_mass)
     bc_auto = method.bc == "auto"
     method = method.for_scene(scene)
     if bc_auto:
@@ -307,21 +313,27 @@ def dynamics(scene: Scene, method: EFG | MLPG, disc: Discretization | None = Non
                     fixed_values, method.bc, timings, Q, qh if Q is not None else ())
 
 
-def local_dynamics(scene: Scene, method: MLPG, disc: Discretization | None = None) -> Dynamics:
-    """``M u'' + K u = f(t)`` of MLPG1 (module docstring; called by :func:`dynamics`).
+def local_dynamics(scene: Scene, method: MLPG, disc: Discretization | None = None,
+                   enrichment_mass: str = "diagonal") -> Dynamics:
+    """``M u'' + K u = f(t)`` of MLPG1 or of the Galerkin form of its trial functions
+    (``method.explicit_form``; module docstring; called by :func:`dynamics`).
+    ``enrichment_mass``: the Galerkin form's enrichment unknowns, as for EFG.
 
     Raises
     ------
     ValueError
-        An enriched MLPG (its Galerkin enrichment rows have no sub-domain mass yet).
+        An enriched MLPG1 (its Galerkin enrichment rows have no sub-domain mass); the
+        Galerkin form takes the enrichment.
     """
     refuse_grading(scene, "explicit MLPG")
-    method = method.for_scene(scene)
-    if method.enrichment != "none":
-        raise ValueError(f"method.enrichment={method.enrichment!r}: explicit MLPG runs without "
-                         "tip enrichment only (its enrichment rows are Galerkin rows over the "
-                         "field quadrature and have no lumped mass on the sub-domains); give "
-                         "MLPG(..., enrichment='none') or use EFG")
+    method = resolve_form(method.for_scene(scene))  # "auto": the Galerkin form, with a warning
+    if method.enrichment != "none" and method.explicit_form == "petrov_galerkin":
+        raise ValueError(f"method.enrichment={method.enrichment!r}: explicit MLPG1 "
+                         "(explicit_form='petrov_galerkin') runs without tip enrichment only "
+                         "(its enrichment rows are Galerkin rows over the field quadrature and "
+                         "have no lumped mass on the sub-domains); give MLPG(..., "
+                         "enrichment='none'), the Galerkin form (explicit_form='galerkin', the "
+                         "default of explicit runs) or EFG")
     if disc is None:  # the trial weight of explicit runs (MLPG.explicit_weight)
         method = explicit_mlpg(method)
     disc = discretize_local(scene, method) if disc is None else disc
@@ -333,7 +345,7 @@ def local_dynamics(scene: Scene, method: MLPG, disc: Discretization | None = Non
     parts = _load_scenes(scene)
     histories = tuple(g for _, g in parts)
     if method.explicit_form == "galerkin":  # symmetric: efgkit.explicit.galerkin_form
-        disc, K, m, F, f_bc, Q, qh = galerkin_system(scene, disc, parts, alpha)
+        disc, K, m, F, f_bc, Q, qh = galerkin_system(scene, disc, parts, alpha, enrichment_mass)
         if Q is not None:  # moving penalty supports: load columns with their histories
             F, histories, Q, qh = np.column_stack([F, Q]), histories + qh, None, ()
         timings["stiffness"] = time.perf_counter() - t0  # with mass and loads
@@ -373,7 +385,7 @@ def local_dynamics(scene: Scene, method: MLPG, disc: Discretization | None = Non
         Q, qh = split_values(scene, lambda s: collocation_rows(replace(disc, scene=s))[1])
     timings["constraints"] = time.perf_counter() - t0
     return Dynamics(disc, _int32(csr_array(K)), m, minv, F, histories, f_bc, projection, fixed,
-                    fixed_values, method.bc, timings, Q, qh)
+                    fixed_values, method.bc, timings, Q, qh, form=method.explicit_form)
 
 
 def _int32(K: csr_array) -> csr_array:

@@ -39,7 +39,7 @@ __all__ = ["EXPLICIT_FORMS", "EXPLICIT_WEIGHTS", "MLPG", "MLPG_BC_METHODS", "MLP
 
 MLPG_BC_METHODS = ("penalty", "modified_mls", "collocation")
 EXPLICIT_WEIGHTS = ("auto", "same", *WEIGHTS)  # MLPG.explicit_weight
-EXPLICIT_FORMS = ("petrov_galerkin", "galerkin")  # MLPG.explicit_form
+EXPLICIT_FORMS = ("auto", "petrov_galerkin", "galerkin")  # MLPG.explicit_form
 MLPG_QUADRATURES = ("midpoint", "gauss")
 MLPG_SOLVERS = ("auto", "direct", "gmres", "bicgstab", "amg")
 
@@ -141,18 +141,24 @@ class MLPG(MeshlessChoices):
         A cloud with a node row on the crack is unchanged. False: the seed's cloud.
     explicit_weight : {"auto", "same", "gaussian", "quartic", "cubic"}
         Trial weight of explicit (central-difference) runs only
-        (:func:`efgkit.explicit.explicit_mlpg`); static solves use ``weight``. "auto": the
-        cubic spline when ``weight`` is the Gaussian, whose pairing with the quartic test
-        function gives M^-1 K negative real eigenvalues (modes growing at any step; the
-        cubic weight leaves slowly growing complex pairs only: docs/theory.md, "Explicit
-        MLPG"), with a warning; otherwise ``weight``. "same": ``weight``. With
-        ``explicit_form="galerkin"`` "auto" keeps ``weight`` (a symmetric K has no such modes).
-    explicit_form : {"petrov_galerkin", "galerkin"}
+        (:func:`efgkit.explicit.explicit_mlpg`); static solves use ``weight``. "auto": with
+        ``explicit_form="petrov_galerkin"``, the cubic spline when ``weight`` is the
+        Gaussian, whose pairing with the quartic test function gives M^-1 K negative real
+        eigenvalues (modes growing at any step; the cubic weight leaves slowly growing
+        complex pairs only: docs/theory.md, "Explicit MLPG"), with a warning; otherwise
+        ``weight``. "same": ``weight``. With the Galerkin
+        form (``explicit_form`` "galerkin" or "auto") "auto" keeps ``weight`` (a symmetric K
+        has no such modes).
+    explicit_form : {"auto", "petrov_galerkin", "galerkin"}
         The equations of explicit runs only: MLPG1's local Petrov-Galerkin rows (seed 002),
         or the symmetric Bubnov-Galerkin form of the same trial functions on the field
         cells (:mod:`efgkit.explicit.galerkin_form`), whose ``M^-1 K`` has real non-negative
         eigenvalues by construction (stable below the critical step for runs of any length,
-        energy conserved); it is not MLPG1.
+        energy conserved); it is not MLPG1. "auto" (default): the Galerkin form, with a
+        warning saying so (:func:`efgkit.explicit.galerkin_form.resolve_form`): MLPG1's
+        ``M^-1 K`` has modes that grow at any step, so explicit MLPG1 blows up after some
+        hundreds to thousands of steps (docs/theory.md, "Explicit MLPG"); "petrov_galerkin"
+        steps MLPG1 (for study).
 
     Examples
     --------
@@ -199,7 +205,7 @@ class MLPG(MeshlessChoices):
     ramp_inner: float = 0.0
     crack_nodes: bool = True
     explicit_weight: str = "auto"
-    explicit_form: str = "petrov_galerkin"
+    explicit_form: str = "auto"
 
     kind = "mlpg"
 
