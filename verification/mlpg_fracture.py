@@ -130,7 +130,8 @@ def markdown(r: dict) -> list[str]:
                   "EFG(spacing=W/n, bc='variational'). Target: J within 0.3 % at <= 80 nodes "
                   f"across. MLPG plain, axial-only, at {', '.join(str(n) for n in SENT_SIZES[:len(plain)])} "
                   f"across: {', '.join(plain)} (with seed 002's weight k = 2, r_s = 1.1 h, before "
-                  "the split rule: 2.0 %, 41 %, 0.26 %: erratic in n; docs/theory.md, MLPG1).", "", *rows, *radius_table(m)]
+                  "the split rule: 2.0 %, 41 %, 0.26 %: erratic in n; docs/theory.md, MLPG1).", "",
+                  *rows, *radius_table(m)]
 
 
 def _e(v) -> str:
