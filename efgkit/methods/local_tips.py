@@ -121,8 +121,10 @@ def split_tip_discs(points: Points, scene, nodes, r_s: np.ndarray, segments: np.
 
     The shadow ray of a node I whose support holds a tip starts at the tip, points along
     tip - x_I and ends where it leaves the support (length r_I - d_I, d_I = |tip - x_I|);
-    a disc is crossed when its centre lies within r_sI + max(r_I - d_I) of the tip. Other
-    discs are unchanged; points stay sorted by owner.
+    a disc is crossed when its centre lies within r_sI + max(r_I - d_I) of the tip. The
+    discs are split tip by tip (each with its nearest tip that crosses it; the rays of every
+    tip apply), so that the support circles tested are those near one tip. Other discs are
+    unchanged; points stay sorted by owner.
 
     Examples
     --------
@@ -137,33 +139,35 @@ def split_tip_discs(points: Points, scene, nodes, r_s: np.ndarray, segments: np.
     >>> n < n_fine, float(np.abs(a - a_fine).max()) < 1e-8   # the visible parts of the discs
     (True, True)
     """
-    origins, directions, lengths, near = [], [], [], []
-    for tip in scene.tips:  # few tips
-        v = tip.x - nodes.x
-        d = np.hypot(*v.T)
-        holds = (d < nodes.radius) & (d > 1e-9 * nodes.radius)
-        if not holds.any():
-            continue
-        length = nodes.radius[holds] - d[holds]
-        origins.append(np.broadcast_to(tip.x, (int(holds.sum()), 2)))
-        directions.append(v[holds] / d[holds, None])
-        lengths.append(length)
-        near.append(np.flatnonzero(d < r_s + length.max()))
-    if not near:
+    tips = np.array([t.x for t in scene.tips]).reshape(-1, 2)
+    dist = np.hypot(nodes.x[:, None, 0] - tips[None, :, 0], nodes.x[:, None, 1] - tips[None, :, 1])
+    holds = (dist < nodes.radius[:, None]) & (dist > 1e-9 * nodes.radius[:, None])  # (n, t)
+    node, tip = np.nonzero(holds)
+    if not len(node):
         return points
-    near = np.unique(np.concatenate(near))
-    # support circles that reach a near disc: a box prefilter, then the exact distance
-    lo, hi = (nodes.x[near] - r_s[near, None]).min(axis=0), (nodes.x[near] + r_s[near, None]).max(axis=0)
-    cand = np.flatnonzero(np.all((nodes.x + nodes.radius[:, None] > lo) &
-                                 (nodes.x - nodes.radius[:, None] < hi), axis=1))
-    gap = np.hypot(*(nodes.x[cand, None] - nodes.x[near][None]).transpose(2, 0, 1))
-    circ = cand[(gap < nodes.radius[cand, None] + r_s[near][None]).any(axis=1)]
-    split = split_disc_points(nodes.x[near], r_s[near], segments, theta_a[near], span[near],
-                              radial, angular, np.concatenate(origins),
-                              np.concatenate(directions), np.concatenate(lengths),
-                              piece_angular=angular, circles=(nodes.x[circ], nodes.radius[circ]))
+    length = nodes.radius[node] - dist[node, tip]
+    directions = (tips[tip] - nodes.x[node]) / dist[node, tip, None]
+    reach = np.zeros(len(tips))
+    np.maximum.at(reach, tip, length)
+    crossed = dist < r_s[:, None] + reach[None]  # (n, t)
+    near = np.flatnonzero(crossed.any(axis=1))
+    group = np.where(crossed, dist, np.inf)[near].argmin(axis=1)  # each disc with its nearest tip
+    parts = []
+    for t in np.unique(group):  # few tips; the support circles that reach the group's discs
+        k = near[group == t]
+        lo = (nodes.x[k] - r_s[k, None]).min(axis=0)
+        hi = (nodes.x[k] + r_s[k, None]).max(axis=0)
+        cand = np.flatnonzero(np.all((nodes.x + nodes.radius[:, None] > lo) &
+                                     (nodes.x - nodes.radius[:, None] < hi), axis=1))
+        gap = np.hypot(*(nodes.x[cand, None] - nodes.x[k][None]).transpose(2, 0, 1))
+        circ = cand[(gap < nodes.radius[cand, None] + r_s[k][None]).any(axis=1)]
+        pts = split_disc_points(nodes.x[k], r_s[k], segments, theta_a[k], span[k], radial, angular,
+                                tips[tip], directions, length, piece_angular=angular,
+                                circles=(nodes.x[circ], nodes.radius[circ]))
+        parts.append(Points(pts.x, pts.w, k[pts.owner]))
+    split = Points.concatenate(*parts)
     keep = ~np.isin(points.owner, near)
-    owner = np.concatenate([points.owner[keep], near[split.owner]])
+    owner = np.concatenate([points.owner[keep], split.owner])
     order = np.argsort(owner, kind="stable")
     return Points(np.concatenate([points.x[keep], split.x])[order],
                   np.concatenate([points.w[keep], split.w])[order], owner[order])
