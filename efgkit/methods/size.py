@@ -19,7 +19,7 @@ from ..quadrature.rules import triangle_rule
 from ..system.linalg import AUTO_AMG_THRESHOLD
 from .efg import EFG
 
-__all__ = ["SizeEstimate", "size_estimate", "RELEASE_POINTS"]
+__all__ = ["SizeEstimate", "size_estimate", "RELEASE_POINTS", "STREAM_POINTS"]
 
 # Size guard: the peak memory of discretize and a static solve, estimated before allocating.
 # Calibration (the larger of the tracemalloc peak and the peak RSS above the interpreter; unit
@@ -58,6 +58,12 @@ HELD_SLOT_BYTES = 12.0
 # 115 and 175 B per estimated point at 2e4, 1e5 and 3e5 nodes (peaks 0.98, 3.89, 11.68 GB; the
 # discretisation sets the peak from 1e5 nodes on).
 ENRICHED_POINT_BYTES = 200.0
+# From STREAM_POINTS domain points on, efgkit.static.solve (scenes without body force and
+# symmetry) never forms the shape functions at all points: discretize(..., chunked="auto")
+# leaves them to efgkit.system.streamed.streamed_stiffness, a chunk of CHUNK_POINTS at a time.
+STREAM_POINTS = 200_000
+STREAM_POINT_BYTES = 40.0  # held per point through the solve (calibrated below)
+CHUNK_POINTS = 2**18  # efgkit.approx.point_shapes.CHUNK_POINTS
 
 
 @dataclass(frozen=True)
@@ -78,6 +84,7 @@ class SizeEstimate:
     node_parts: dict
     point_parts: dict
     held_bytes: float | None = None
+    streamed: bool = False
 
     @property
     def bytes(self) -> float:
@@ -86,9 +93,25 @@ class SizeEstimate:
             return self.shape_bytes + self.solve_bytes
         return max(self.shape_bytes, self.held_bytes + self.solve_bytes)
 
+    def describe(self) -> str:
+        """What the parts of :attr:`bytes` are, for the size guard's message."""
+        gb = 1e9
+        if self.streamed:
+            return (f"discretising it and assembling the stiffness a chunk of points at a time needs "
+                    f"{self.shape_bytes / gb:.3g} GB and the solve {self.solve_bytes / gb:.3g} GB on top "
+                    f"of the {self.held_bytes / gb:.3g} GB of the points' arrays kept through it (the "
+                    "shape functions at all points are never held)")
+        return (f"discretising and solving it needs {self.shape_bytes / gb:.3g} GB for the shape "
+                f"functions and {self.solve_bytes / gb:.3g} GB for the stiffness and the solve"
+                + ("" if self.held_bytes is None else
+                   f" (on top of the {self.held_bytes / gb:.3g} GB of compact derivatives kept "
+                   "through it; the padded shape arrays are released)"))
 
-def size_estimate(scene: Scene, method: EFG) -> SizeEstimate:
-    """Estimate the size of ``discretize(scene, method)`` and a static solve, allocating nothing.
+
+def size_estimate(scene: Scene, method: EFG, chunked: bool | str = "auto") -> SizeEstimate:
+    """Estimate the size of ``discretize(scene, method, chunked)`` and a static solve,
+    allocating nothing. ``chunked`` as in :func:`~efgkit.methods.discretize.discretize`
+    ("auto": as :func:`efgkit.static.solve` discretises).
 
     Examples
     --------
@@ -138,7 +161,13 @@ def size_estimate(scene: Scene, method: EFG) -> SizeEstimate:
     released = isinstance(method, EFG) and points >= RELEASE_POINTS  # efgkit.static.solve
     everywhere = getattr(method, "enrichment", "none") == "extrinsic_mls" and \
         getattr(method, "enrich_radius", None) is None and bool(scene.tips)
-    shape = (SLOT_BYTES * width + (ENRICHED_POINT_BYTES if everywhere else 0.0)) * points
-    return SizeEstimate(nodes.nodes, points, width, shape,
-                        per_node * (method.d_max / 2) ** 2 * irregular**0.5 * nodes.nodes,
+    per_point = SLOT_BYTES * width + (ENRICHED_POINT_BYTES if everywhere else 0.0)
+    solve = per_node * (method.d_max / 2) ** 2 * irregular**0.5 * nodes.nodes
+    streamed = isinstance(method, EFG) and (chunked is True or (
+        chunked == "auto" and points >= STREAM_POINTS and scene.body_force is None
+        and scene.symmetry is None))
+    if streamed:  # one chunk's shape functions at a time, the points' arrays held throughout
+        return SizeEstimate(nodes.nodes, points, width, per_point * min(points, CHUNK_POINTS),
+                            solve, nodes.parts, parts, STREAM_POINT_BYTES * points)
+    return SizeEstimate(nodes.nodes, points, width, per_point * points, solve,
                         nodes.parts, parts, HELD_SLOT_BYTES * points * width if released else None)
