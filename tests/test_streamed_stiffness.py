@@ -131,3 +131,23 @@ def test_discretize_says_which_scenes_it_can_chunk():
         discretize(scene, EFG(spacing=0.25), chunked="yes")
     d = discretize(replace(scene, body_force=None), EFG(spacing=0.25), chunked=True)
     assert isinstance(d.shape, PointShapes) and d.shape.n_points == d.points.n
+
+
+def test_the_size_guard_estimates_the_streamed_solve(monkeypatch):
+    """1e6 nodes of the cracked plate: refused at 38 GB when every shape function is held,
+    about 15 GB streamed (docs/performance.md, streamed section); the refusal names the parts."""
+    import efgkit.memory as memory_module
+    from efgkit.methods.size import size_estimate
+
+    scene, method = load_study(ROOT / "examples" / "edge_crack.toml")
+    f = 29.2  # benchmarks/scaling.py's factor for 1e6 nodes
+    method = replace(method, spacing=method.spacing / f,
+                     zones=tuple(replace(z, spacing=z.spacing / f) for z in method.zones))
+    full, est = size_estimate(scene, method, chunked=False), size_estimate(scene, method)
+    assert est.streamed and not full.streamed
+    assert 10e9 < est.bytes < 0.5 * full.bytes
+    monkeypatch.setattr(memory_module, "available_memory", lambda: (2.5e9, "a test"))
+    with pytest.raises(ValueError, match=r"assembling the stiffness a chunk of points at a time needs "
+                                         r"[\d.]+ GB and the solve [\d.]+ GB on top of the [\d.]+ GB of "
+                                         r"the points' arrays .* more than the 2\.5 GB"):
+        discretize(scene, method, chunked="auto")

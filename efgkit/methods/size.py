@@ -61,9 +61,28 @@ ENRICHED_POINT_BYTES = 200.0
 # From STREAM_POINTS domain points on, efgkit.static.solve (scenes without body force and
 # symmetry) never forms the shape functions at all points: discretize(..., chunked="auto")
 # leaves them to efgkit.system.streamed.streamed_stiffness, a chunk of CHUNK_POINTS at a time.
+# The peak is then the largest of: the quadrature (QUADRATURE_POINT_BYTES per point: the cells'
+# points and the box sort), the assembly (the points' x and w held, STREAM_POINT_BYTES per point,
+# plus one chunk's shape functions and the partial sums of K, STREAM_ASSEMBLY_BYTES per weighted
+# node) and the solve (the points held plus STREAM_NODE_BYTES per weighted node: K, the
+# constrained matrix, A_rho of the Uzawa steps and the auxiliary preconditioner), the weighted
+# nodes being nodes (d_max / 2)^2 sqrt(irregular) as for NODE_BYTES_AMG. Calibration (peak RSS
+# above the interpreter, 5 ms samples, the estimated counts; cracked plate of
+# benchmarks/scaling.py, bc="lagrange", CG): 19,564 nodes (590,440 points, 3 chunks): quadrature
+# 0.02 GB, assembly 0.35 GB (chunk-bound), solve 0.24 GB (6.9 kB per weighted node); 96,980 nodes
+# (2.92M points, 12 chunks): quadrature 0.30 GB (85 B per estimated point), assembly 0.68 GB (the
+# partial sums 1.9 kB per weighted node; K alone ~1.4 kB), solve 1.31 GB (7.9 kB per weighted
+# node); the unit plate above (19,881 nodes, 313,600 points, 2 chunks): 255 MB in all (12.6 kB per
+# weighted node: a regular cloud, narrower neighbour lists, the same solver's parts). The solve is
+# STREAM_FIXED_BYTES (the multigrid's modules and work arrays) plus STREAM_NODE_BYTES per weighted
+# node: estimated / measured 0.29 / 0.26 GB (plate), 0.41 / 0.24 and 1.59 / 1.31 GB (cracked).
 STREAM_POINTS = 200_000
-STREAM_POINT_BYTES = 40.0  # held per point through the solve (calibrated below)
 CHUNK_POINTS = 2**18  # efgkit.approx.point_shapes.CHUNK_POINTS
+QUADRATURE_POINT_BYTES = 110.0
+STREAM_POINT_BYTES = 24.0
+STREAM_ASSEMBLY_BYTES = 3e3
+STREAM_NODE_BYTES = 9e3
+STREAM_FIXED_BYTES = 1e8
 
 
 @dataclass(frozen=True)
@@ -116,11 +135,14 @@ def size_estimate(scene: Scene, method: EFG, chunked: bool | str = "auto") -> Si
     Examples
     --------
     >>> from efgkit import Domain, EFG, Elastic, Scene
-    >>> est = size_estimate(Scene(Domain.rectangle(0, 0, 1, 1), Elastic(1.0, 0.3)),
-    ...                     EFG(spacing=1 / 140, bc="lagrange"))
+    >>> plate = Scene(Domain.rectangle(0, 0, 1, 1), Elastic(1.0, 0.3))
+    >>> est = size_estimate(plate, EFG(spacing=1 / 140, bc="lagrange"), chunked=False)
     >>> round(est.nodes, -2), round(est.points, -4), est.width, round(est.bytes / 1e6, -1)
     (20200.0, 350000.0, 14, 420.0)
     >>> # measured: 19,881 nodes, 313,600 points, width 13, peak 411 MB (module comment)
+    >>> round(size_estimate(plate, EFG(spacing=1 / 140, bc="lagrange")).bytes / 1e6, -1)
+    290.0
+    >>> # streamed (the static solve's default at this size): measured 255 MB (module comment)
     """
     method = method.for_scene(scene)
     dom, cracks = scene.domain, scene.cracks
@@ -162,12 +184,15 @@ def size_estimate(scene: Scene, method: EFG, chunked: bool | str = "auto") -> Si
     everywhere = getattr(method, "enrichment", "none") == "extrinsic_mls" and \
         getattr(method, "enrich_radius", None) is None and bool(scene.tips)
     per_point = SLOT_BYTES * width + (ENRICHED_POINT_BYTES if everywhere else 0.0)
-    solve = per_node * (method.d_max / 2) ** 2 * irregular**0.5 * nodes.nodes
+    weighted = (method.d_max / 2) ** 2 * irregular**0.5 * nodes.nodes
     streamed = isinstance(method, EFG) and (chunked is True or (
         chunked == "auto" and points >= STREAM_POINTS and scene.body_force is None
         and scene.symmetry is None))
     if streamed:  # one chunk's shape functions at a time, the points' arrays held throughout
-        return SizeEstimate(nodes.nodes, points, width, per_point * min(points, CHUNK_POINTS),
-                            solve, nodes.parts, parts, STREAM_POINT_BYTES * points)
-    return SizeEstimate(nodes.nodes, points, width, per_point * points, solve,
+        held = STREAM_POINT_BYTES * points
+        assembly = held + per_point * min(points, CHUNK_POINTS) + STREAM_ASSEMBLY_BYTES * weighted
+        return SizeEstimate(nodes.nodes, points, width, max(QUADRATURE_POINT_BYTES * points, assembly),
+                            STREAM_FIXED_BYTES + STREAM_NODE_BYTES * weighted, nodes.parts, parts, held,
+                            streamed=True)
+    return SizeEstimate(nodes.nodes, points, width, per_point * points, per_node * weighted,
                         nodes.parts, parts, HELD_SLOT_BYTES * points * width if released else None)
