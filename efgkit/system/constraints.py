@@ -216,8 +216,10 @@ def lagrange(K, f, bc: Dirichlet, node_x: np.ndarray, check: bool = True) -> Lin
     # not bmat's COO of it (36 instead of 12 bytes per non-zero at once; 0.7 GB at 1e5 nodes)
     m, K = G.shape[0], csr_array(K)
     pad = np.concatenate([K.indptr, np.full(m, K.indptr[-1], K.indptr.dtype)])
-    A = csr_array(csr_array((K.data, K.indices, pad), shape=(K.shape[0] + m,) * 2)
-                  + bmat([[None, G.T], [G, None]], format="csr"))
+    C = csr_array(bmat([[None, G.T], [G, None]], format="csr"))
+    if K.nnz + C.nnz < 2**31:  # int32 G blocks: an int64 operand would widen the sum's indices
+        C = csr_array((C.data, C.indices.astype(np.int32), C.indptr.astype(np.int32)), shape=C.shape)
+    A = csr_array(csr_array((K.data, K.indices, pad), shape=(K.shape[0] + m,) * 2) + C)
     n = K.shape[0]
 
     def forces(z):  # -lambda ds at each point: the multipliers (scaled back) on the hats
