@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .approx.point_shapes import PointShapes
 from .methods.discretize import Discretization, crack_mouths
 from .problem.crack import FACE_OFFSET
 from .problem.graded import modulus_weights, refuse_grading
@@ -77,6 +78,8 @@ class MeshlessSolution(Solution):
     def _fields(self, x, derivatives):
         if x is None:
             sh = self.disc.post_shape
+            if isinstance(sh, PointShapes):  # a large solve: formed a chunk at a time
+                return sh
             if sh.neighbours is None and not derivatives:  # values released after a large solve
                 return self.disc.shape_at(self.disc.post_points.x, derivatives=False)
             return sh
@@ -125,13 +128,27 @@ class MeshlessSolution(Solution):
 
         refuse_grading(self.scene, "the J and interaction integrals (SIFs)")
         x, w = self.disc.post_points.x, self.disc.post_points.w
-        grad = self.gradient()
+        rs_of = [tip_radii(self.scene, tip, radii, self.tip_spacing(tip)) for tip in self.scene.tips]
+        sh = self.disc.post_shape
+        if isinstance(sh, PointShapes):  # formed on demand: only the points of the discs
+            # (a superset of those domain_integrands takes: r < r_max in the tip frame)
+            near = np.zeros(len(x), bool)
+            for tip, rs in zip(self.scene.tips, rs_of, strict=True):
+                try:  # radii tip_result will refuse: all points (it names the problem)
+                    reach = float(np.max(np.asarray(rs, dtype=float)))
+                except (TypeError, ValueError):
+                    reach = np.inf
+                near |= np.hypot(*(x - tip.x).T) < 1.001 * (reach if reach > 0 else np.inf)
+            rows = np.flatnonzero(near)
+            x, w, grad = x[rows], w[rows], sh.gradient(self.coeffs, rows)
+        else:
+            grad = self.gradient()
         stress = strain_from_gradient(grad) @ self.scene.material.D.T  # no second pass
         enr = self.disc.approx.enrichment
         out = []
         for k, tip in enumerate(self.scene.tips):
             h = self.tip_spacing(tip)
-            rs = tip_radii(self.scene, tip, radii, h)
+            rs = rs_of[k]
             faces = face_loads(self.scene, tip, max(rs), lambda xs, side: self.gradient(xs), h)
             kk = None
             if enr is not None and enr.kind == "extrinsic_mls":

@@ -13,6 +13,7 @@ from dataclasses import replace
 import numpy as np
 from scipy.sparse import csr_array
 
+from .approx.point_shapes import PointShapes
 from .meshless_solution import MeshlessSolution
 from .methods.boundary import (
     collocation_rows,
@@ -42,6 +43,7 @@ from .system.constraints import (
 )
 from .system.linalg import AUTO_AMG_THRESHOLD
 from .system.linalg import solve as linear_solve
+from .system.streamed import streamed_stiffness
 from .timing import Stopwatch
 
 __all__ = ["DEFAULT_PENALTY", "DEFAULT_STABILISATION", "LOCKING_PENALTY", "auxiliary_space",
@@ -177,20 +179,24 @@ def solve(scene: Scene, method: EFG | MLPG, disc: Discretization | None = None, 
     sw.lap("setup")
     own = disc is None
     if disc is None:  # the discretisation's stages are this call's (a given one's are not)
-        disc = discretize(scene, method)
+        disc = discretize(scene, method, chunked="auto")  # large: shape functions in chunks
         sw = Stopwatch(disc.timings | {k: v + disc.timings.get(k, 0.0) for k, v in sw.timings.items()})
     method = large_system_bc(method, disc, bc_was_auto)  # CG-sized: Nitsche for Lagrange
     if method is not disc.method and method.bc != disc.method.bc:
         disc = replace(disc, method=method)  # the solution reports the bc it was solved with
     mat, m = scene.material, method
-    if own and disc.points.n >= RELEASE_POINTS and scene.body_force is None:
+    streamed = isinstance(disc.shape, PointShapes)  # formed, assembled and dropped a chunk at a time
+    if own and not streamed and disc.points.n >= RELEASE_POINTS and scene.body_force is None:
         disc = replace(disc, shape=disc.shape.without_values())  # the stiffness needs no values
-    K = stiffness(disc.shape, modulus_weights(disc.scene, disc.points.x, disc.points.w), mat.D) \
-        if K is None else K
+    if K is None:
+        wq = modulus_weights(disc.scene, disc.points.x, disc.points.w)
+        K = streamed_stiffness(disc.shape, wq, mat.D, clock=sw) if streamed else \
+            stiffness(disc.shape, wq, mat.D)
+        del wq
     sw.lap("stiffness")
     f = loads(disc) if f is None else f
     sw.lap("loads")
-    if own and disc.points.n >= RELEASE_POINTS:  # post-processing needs the derivatives only
+    if own and not streamed and disc.points.n >= RELEASE_POINTS:  # post-processing: derivatives
         disc = replace(disc, shape=disc.shape.gradients_only())
         sw.lap("release")
     system = constrained_system(disc, K, f, m)

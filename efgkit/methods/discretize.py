@@ -18,6 +18,7 @@ from ..approx.approximation import Approximation
 from ..approx.crack_rules import CrackLines, CrackRule
 from ..approx.enrichment import Enrichment
 from ..approx.hole_rules import Holes
+from ..approx.point_shapes import PointShapes
 from ..approx.shape import Shape
 from ..approx.tip_functions import TipGeometry
 from ..nodes import NodeCloud, check_memory, generate_nodes, support_radii
@@ -30,7 +31,7 @@ from ..system.images import image_group, image_positions, part_weights, tie
 from ..timing import Stopwatch
 from .crack_choices import check_crack_choices
 from .efg import EFG, Zone
-from .size import size_estimate
+from .size import STREAM_POINTS, size_estimate
 
 __all__ = ["Discretization", "discretize", "support_edges", "crack_mouths", "essential_nodes",
            "interpolating_supports", "shadow_rays"]
@@ -47,8 +48,9 @@ class Discretization:
     nodes : NodeCloud
     points : Points
         Domain quadrature points ``x (n_points, 2)`` and weights.
-    shape : Shape
-        Shape functions with derivatives at ``points``.
+    shape : Shape or PointShapes
+        Shape functions with derivatives at ``points`` (a :class:`PointShapes`, formed a
+        chunk of points at a time on demand, when discretised with ``chunked``).
     approx : Approximation
         The trial functions (nodes, search structure, crack rule,
         enrichment): evaluates shape functions at any points.
@@ -146,10 +148,16 @@ def essential_nodes(scene: Scene, nodes: NodeCloud, spacing: float) -> np.ndarra
     return on
 
 
-def discretize(scene: Scene, method: EFG) -> Discretization:
+def discretize(scene: Scene, method: EFG, chunked: bool | str = False) -> Discretization:
     """Nodes, domain quadrature and shape functions of ``scene`` under ``method``.
 
     The automatic choices of ``method`` are made first (:meth:`EFG.for_scene`).
+
+    ``chunked``: True leaves the shape functions at the domain points unformed (``shape`` a
+    :class:`~efgkit.approx.point_shapes.PointShapes`: formed a chunk of points at a time by
+    whoever needs them, :func:`efgkit.system.streamed.streamed_stiffness`); "auto" does so from
+    :data:`~efgkit.methods.size.STREAM_POINTS` domain points on for scenes without a body
+    force and without symmetry (what :func:`efgkit.static.solve` asks for).
 
     Raises
     ------
@@ -172,17 +180,19 @@ def discretize(scene: Scene, method: EFG) -> Discretization:
         raise TypeError(f"scene must be a Scene, got {type(scene).__name__}")
     if not isinstance(method, EFG):
         raise TypeError(f"method must be an EFG description, got {type(method).__name__}")
+    if chunked not in (False, True, "auto"):
+        raise ValueError(f"chunked must be False, True or 'auto', got {chunked!r}")
+    streamable = scene.body_force is None and scene.symmetry is None
+    if chunked is True and not streamable:
+        raise ValueError(f"chunked=True needs a scene without body force and symmetry (scene "
+                         f"{scene.name!r} has one): use chunked=False or 'auto'")
     sw = Stopwatch()  # laps: stages that add up to the wall time, compilation apart
     method = method.for_scene(scene)  # the automatic choices (tip zones, enrichment, bc)
-    est = size_estimate(scene, method)
+    est = size_estimate(scene, method, chunked=chunked if streamable else False)
     source = max(est.point_parts, key=est.point_parts.get)  # arguments giving the most points
     check_memory(est.bytes, f"{source} would give about {est.nodes:.2g} nodes and "
                  f"{est.points:.2g} quadrature points with up to {est.width} neighbours each; "
-                 f"discretising and solving it needs {est.shape_bytes / 1e9:.3g} GB for the shape "
-                 f"functions and {est.solve_bytes / 1e9:.3g} GB for the stiffness and the solve"
-                 + ("" if est.held_bytes is None else
-                    f" (on top of the {est.held_bytes / 1e9:.3g} GB of compact derivatives kept "
-                    "through it; the padded shape arrays are released)"),
+                 + est.describe(),
                  "Remedy: a discretisation about {factor:.2g} times coarser (spacing, cell_size, "
                  "zone spacings) would fit; refine only where needed (zones near tips, holes and "
                  "corners), or lower d_max or order.")
@@ -211,16 +221,21 @@ def discretize(scene: Scene, method: EFG) -> Discretization:
     sw.lap("quadrature")
     approx = approximation(scene, method, nodes, interpolate)
     sw.lap("approximation")  # crack lines, enrichment, the box grid of the nodes
-    points, shape = _shape_functions(points, approx, sw)
+    later = chunked is True or (chunked == "auto" and streamable and points.n >= STREAM_POINTS)
+    points, shape = _shape_functions(points, approx, sw, later)
     return Discretization(scene, method, nodes, points, shape, approx, sw.timings)
 
 
-def _shape_functions(points: Points, approx: Approximation, sw: Stopwatch) -> tuple[Points, Shape]:
+def _shape_functions(points: Points, approx: Approximation, sw: Stopwatch,
+                     later: bool = False) -> tuple[Points, Shape | PointShapes]:
     """The points sorted by box (locality for the kernels), then their neighbours and shape
-    functions (stages "search" and "shape")."""
+    functions (stages "search" and "shape"), or with ``later`` a :class:`PointShapes` that
+    forms them a chunk at a time when asked."""
     order = np.argsort(approx.boxes.box_of(points.x), kind="stable")
     points = Points(points.x[order], points.w[order],
                     None if points.owner is None else points.owner[order])
+    if later:
+        return points, PointShapes(approx, points.x)
     nb = find_neighbours(points.x, approx.nodes, approx.boxes)
     sw.lap("search")
     shape = approx.shape(points.x, neighbours=nb)

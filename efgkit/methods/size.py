@@ -19,7 +19,7 @@ from ..quadrature.rules import triangle_rule
 from ..system.linalg import AUTO_AMG_THRESHOLD
 from .efg import EFG
 
-__all__ = ["SizeEstimate", "size_estimate", "RELEASE_POINTS"]
+__all__ = ["SizeEstimate", "size_estimate", "RELEASE_POINTS", "STREAM_POINTS"]
 
 # Size guard: the peak memory of discretize and a static solve, estimated before allocating.
 # Calibration (the larger of the tracemalloc peak and the peak RSS above the interpreter; unit
@@ -58,6 +58,31 @@ HELD_SLOT_BYTES = 12.0
 # 115 and 175 B per estimated point at 2e4, 1e5 and 3e5 nodes (peaks 0.98, 3.89, 11.68 GB; the
 # discretisation sets the peak from 1e5 nodes on).
 ENRICHED_POINT_BYTES = 200.0
+# From STREAM_POINTS domain points on, efgkit.static.solve (scenes without body force and
+# symmetry) never forms the shape functions at all points: discretize(..., chunked="auto")
+# leaves them to efgkit.system.streamed.streamed_stiffness, a chunk of CHUNK_POINTS at a time.
+# The peak is then the largest of: the quadrature (QUADRATURE_POINT_BYTES per point: the cells'
+# points and the box sort), the assembly (the points' x and w held, STREAM_POINT_BYTES per point,
+# plus one chunk's shape functions and the partial sums of K, STREAM_ASSEMBLY_BYTES per weighted
+# node) and the solve (the points held plus STREAM_NODE_BYTES per weighted node: K, the
+# constrained matrix, A_rho of the Uzawa steps and the auxiliary preconditioner), the weighted
+# nodes being nodes (d_max / 2)^2 sqrt(irregular) as for NODE_BYTES_AMG. Calibration (peak RSS
+# above the interpreter, 5 ms samples, the estimated counts; cracked plate of
+# benchmarks/scaling.py, bc="lagrange", CG): 19,564 nodes (590,440 points, 3 chunks): quadrature
+# 0.02 GB, assembly 0.35 GB (chunk-bound), solve 0.24 GB (6.9 kB per weighted node); 96,980 nodes
+# (2.92M points, 12 chunks): quadrature 0.30 GB (85 B per estimated point), assembly 0.68 GB (the
+# partial sums 1.9 kB per weighted node; K alone ~1.4 kB), solve 1.31 GB (7.9 kB per weighted
+# node); the unit plate above (19,881 nodes, 313,600 points, 2 chunks): 255 MB in all (12.6 kB per
+# weighted node: a regular cloud, narrower neighbour lists, the same solver's parts). The solve is
+# STREAM_FIXED_BYTES (the multigrid's modules and work arrays) plus STREAM_NODE_BYTES per weighted
+# node: estimated / measured 0.29 / 0.26 GB (plate), 0.41 / 0.24 and 1.59 / 1.31 GB (cracked).
+STREAM_POINTS = 200_000
+CHUNK_POINTS = 2**18  # efgkit.approx.point_shapes.CHUNK_POINTS
+QUADRATURE_POINT_BYTES = 110.0
+STREAM_POINT_BYTES = 24.0
+STREAM_ASSEMBLY_BYTES = 3e3
+STREAM_NODE_BYTES = 9e3
+STREAM_FIXED_BYTES = 1e8
 
 
 @dataclass(frozen=True)
@@ -78,6 +103,7 @@ class SizeEstimate:
     node_parts: dict
     point_parts: dict
     held_bytes: float | None = None
+    streamed: bool = False
 
     @property
     def bytes(self) -> float:
@@ -86,18 +112,37 @@ class SizeEstimate:
             return self.shape_bytes + self.solve_bytes
         return max(self.shape_bytes, self.held_bytes + self.solve_bytes)
 
+    def describe(self) -> str:
+        """What the parts of :attr:`bytes` are, for the size guard's message."""
+        gb = 1e9
+        if self.streamed:
+            return (f"discretising it and assembling the stiffness a chunk of points at a time needs "
+                    f"{self.shape_bytes / gb:.3g} GB and the solve {self.solve_bytes / gb:.3g} GB on top "
+                    f"of the {self.held_bytes / gb:.3g} GB of the points' arrays kept through it (the "
+                    "shape functions at all points are never held)")
+        return (f"discretising and solving it needs {self.shape_bytes / gb:.3g} GB for the shape "
+                f"functions and {self.solve_bytes / gb:.3g} GB for the stiffness and the solve"
+                + ("" if self.held_bytes is None else
+                   f" (on top of the {self.held_bytes / gb:.3g} GB of compact derivatives kept "
+                   "through it; the padded shape arrays are released)"))
 
-def size_estimate(scene: Scene, method: EFG) -> SizeEstimate:
-    """Estimate the size of ``discretize(scene, method)`` and a static solve, allocating nothing.
+
+def size_estimate(scene: Scene, method: EFG, chunked: bool | str = "auto") -> SizeEstimate:
+    """Estimate the size of ``discretize(scene, method, chunked)`` and a static solve,
+    allocating nothing. ``chunked`` as in :func:`~efgkit.methods.discretize.discretize`
+    ("auto": as :func:`efgkit.static.solve` discretises).
 
     Examples
     --------
     >>> from efgkit import Domain, EFG, Elastic, Scene
-    >>> est = size_estimate(Scene(Domain.rectangle(0, 0, 1, 1), Elastic(1.0, 0.3)),
-    ...                     EFG(spacing=1 / 140, bc="lagrange"))
+    >>> plate = Scene(Domain.rectangle(0, 0, 1, 1), Elastic(1.0, 0.3))
+    >>> est = size_estimate(plate, EFG(spacing=1 / 140, bc="lagrange"), chunked=False)
     >>> round(est.nodes, -2), round(est.points, -4), est.width, round(est.bytes / 1e6, -1)
     (20200.0, 350000.0, 14, 420.0)
     >>> # measured: 19,881 nodes, 313,600 points, width 13, peak 411 MB (module comment)
+    >>> round(size_estimate(plate, EFG(spacing=1 / 140, bc="lagrange")).bytes / 1e6, -1)
+    290.0
+    >>> # streamed (the static solve's default at this size): measured 255 MB (module comment)
     """
     method = method.for_scene(scene)
     dom, cracks = scene.domain, scene.cracks
@@ -138,7 +183,16 @@ def size_estimate(scene: Scene, method: EFG) -> SizeEstimate:
     released = isinstance(method, EFG) and points >= RELEASE_POINTS  # efgkit.static.solve
     everywhere = getattr(method, "enrichment", "none") == "extrinsic_mls" and \
         getattr(method, "enrich_radius", None) is None and bool(scene.tips)
-    shape = (SLOT_BYTES * width + (ENRICHED_POINT_BYTES if everywhere else 0.0)) * points
-    return SizeEstimate(nodes.nodes, points, width, shape,
-                        per_node * (method.d_max / 2) ** 2 * irregular**0.5 * nodes.nodes,
+    per_point = SLOT_BYTES * width + (ENRICHED_POINT_BYTES if everywhere else 0.0)
+    weighted = (method.d_max / 2) ** 2 * irregular**0.5 * nodes.nodes
+    streamed = isinstance(method, EFG) and (chunked is True or (
+        chunked == "auto" and points >= STREAM_POINTS and scene.body_force is None
+        and scene.symmetry is None))
+    if streamed:  # one chunk's shape functions at a time, the points' arrays held throughout
+        held = STREAM_POINT_BYTES * points
+        assembly = held + per_point * min(points, CHUNK_POINTS) + STREAM_ASSEMBLY_BYTES * weighted
+        return SizeEstimate(nodes.nodes, points, width, max(QUADRATURE_POINT_BYTES * points, assembly),
+                            STREAM_FIXED_BYTES + STREAM_NODE_BYTES * weighted, nodes.parts, parts, held,
+                            streamed=True)
+    return SizeEstimate(nodes.nodes, points, width, per_point * points, per_node * weighted,
                         nodes.parts, parts, HELD_SLOT_BYTES * points * width if released else None)

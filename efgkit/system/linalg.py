@@ -125,7 +125,7 @@ def _compact(A) -> csr_array:
     A = csr_array(A)
     A.sort_indices()
     if A.nnz < 2**31 - 1:
-        A = csr_array((A.data, A.indices.astype(np.int32), A.indptr.astype(np.int32)),
+        A = csr_array((A.data, A.indices.astype(np.int32, copy=False), A.indptr.astype(np.int32)),
                       shape=A.shape)
     return A
 
@@ -232,12 +232,12 @@ def _augmented_lagrangian(system, near_nullspace, rtol, auxiliary, stiffness):
     eigenvalues of the Schur complement in the ``D`` metric); ``rho`` puts the largest
     diagonal entry of the augmentation at ``AUGMENTATION`` times K's, as a penalty
     would (1e6: see the measurements at AUGMENTATION), so two steps usually reach ``rtol``.
-    The ``K c + G^T lambda - f`` part of the
-    residual is each step's CG residual, the other part is ``G c - q``.
+    The ``K c + G^T lambda - f`` part of the residual is each step's CG residual, the other
+    ``G c - q``. K is ``stiffness`` when given (it is the K block: no copy of it is made).
     """
     n = system.n_coeffs
     A = csr_array(system.A)
-    K, G = A[:n, :n], A[n:, :n]
+    K, G = (stiffness if getattr(stiffness, "shape", None) == (n, n) else A[:n, :n]), A[n:, :n]
     f, q = system.b[:n], system.b[n:]
     d_inv = 1.0 / np.asarray(abs(G).sum(axis=1)).ravel()
     P = csr_array(G.T @ diags_array(d_inv) @ G)
