@@ -237,14 +237,11 @@ def disc_points(x: np.ndarray, r: np.ndarray, segments: np.ndarray, theta_a: np.
     >>> pts.n, round(float(pts.w.sum() - np.pi), 14)   # 5 x 8, the area pi r^2
     (40, 0.0)
     """
-    out = []
-    for k, theta, dth, rm in disc_rays(x, r, segments, theta_a, span, rule, angular, tol,
-                                       piece_angular):
-        t, wt, rho, wr = polar_rule(rule, radial, 1, True)
-        rad = rm[:, :, None] * rho[None, None]  # (m, a, n_r)
-        w = dth[:, :, None] * rm[:, :, None] ** 2 * wr[None, None]
-        out.append(polar_points(x[k], k, theta, rad, w))
-    return sorted_points(out)
+    _, _, rho, wr = polar_rule(rule, radial, 1, True)
+    rays = disc_rays(x, r, segments, theta_a, span, rule, angular, tol, piece_angular)
+    return sorted_points([polar_points(x[k], k, theta, rm[:, :, None] * rho,  # (m, a, n_r)
+                                       dth[:, :, None] * rm[:, :, None] ** 2 * wr)
+                          for k, theta, dth, rm in rays])
 
 
 def disc_rays(x: np.ndarray, r: np.ndarray, segments: np.ndarray, theta_a: np.ndarray,
