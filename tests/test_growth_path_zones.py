@@ -72,6 +72,9 @@ def test_path_zones_setting_is_validated():
         Growth(da=0.1, path_zones=(0.2, 0.05))  # a pair, not a sequence of pairs
     with pytest.raises(TypeError, match=r"growth.path_zones must be tuple, got 0.2"):
         Growth.from_dict({"da": 0.1, "path_zones": 0.2})
+    with pytest.raises(ValueError, match=r"growth path_zones \(\(0.2, 0.05\),\) refine EFG node clouds, "
+                       r"the method is FEM: give its own refinement, or path_zones=\(\)"):
+        next(grow(overlap(), FEM(h=0.1), Growth(da=0.1, path_zones=((0.2, 0.05),))))
 
 
 def test_a_sliver_fails_with_a_remedy_and_path_zones_resolve_it():

@@ -211,6 +211,9 @@ def _check(scene, method, settings, start):
                          "loops are quasi-static; use a static scene (duration None)")
     if not scene.tips:
         raise ValueError(f"scene {scene.name!r} has no crack tip to grow: add a crack with a tip")
+    if settings.path_zones and not isinstance(method, EFG):
+        raise ValueError(f"growth path_zones {settings.path_zones!r} refine EFG node clouds, the method "
+                         f"is {type(method).__name__}: give its own refinement, or path_zones=()")
     if start is not None and not isinstance(start, GrowthState):
         raise TypeError(f"start must be a GrowthState (efgkit.growth.load_state), got "
                         f"{type(start).__name__}")
