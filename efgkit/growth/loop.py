@@ -33,6 +33,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ..approx.mls import SingularMomentMatrix
 from ..fem.model import FEM, solve_fem
 from ..fracture.criteria import critical_load_factor, delta_k, hoop_stress, paris_cycles, paris_rate
 from ..methods.discretize import discretize
@@ -42,6 +43,7 @@ from ..problem.scene import Scene
 from ..static import solve
 from .extend import advance
 from .incremental import Assembled, update
+from .path_zones import undiscretisable, with_path_zones
 from .settings import Growth
 
 __all__ = ["GrowthState", "GrowthStep", "anchored_zones", "grow", "growth_method", "rediscretize"]
@@ -209,6 +211,9 @@ def _check(scene, method, settings, start):
                          "loops are quasi-static; use a static scene (duration None)")
     if not scene.tips:
         raise ValueError(f"scene {scene.name!r} has no crack tip to grow: add a crack with a tip")
+    if settings.path_zones and not isinstance(method, EFG):
+        raise ValueError(f"growth path_zones {settings.path_zones!r} refine EFG node clouds, the method "
+                         f"is {type(method).__name__}: give its own refinement, or path_zones=()")
     if start is not None and not isinstance(start, GrowthState):
         raise TypeError(f"start must be a GrowthState (efgkit.growth.load_state), got "
                         f"{type(start).__name__}")
@@ -241,6 +246,12 @@ def grow(scene: Scene, method, settings: Growth, start: GrowthState | None = Non
     the later arrivals (by ``s / da``) are held: they do not grow in that increment (an
     event; not in ``da``) and the next step solves with the earlier arrival joined.
 
+    Raises
+    ------
+    SingularMomentMatrix
+        A step's cracks cannot be discretised (too few nodes between close cracks); the
+        message names the step and the remedy (``Growth.path_zones``).
+
     Examples
     --------
     >>> from efgkit import Crack, Domain, Elastic, Support, Traction
@@ -265,10 +276,13 @@ def grow(scene: Scene, method, settings: Growth, start: GrowthState | None = Non
     disc = None
     while True:
         t0 = time.perf_counter()
-        method = anchored_zones(base, scene, anchors)
-        disc = rediscretize(scene, method, disc, settings.incremental)
-        t1 = time.perf_counter()
-        sol = _solve(scene, method, disc)
+        method = with_path_zones(anchored_zones(base, scene, anchors), scene, settings.path_zones)
+        try:
+            disc = rediscretize(scene, method, disc, settings.incremental)
+            t1 = time.perf_counter()
+            sol = _solve(scene, method, disc)
+        except SingularMomentMatrix as err:
+            raise SingularMomentMatrix(undiscretisable(index, events, err, settings)) from err
         t2 = time.perf_counter()
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # kept in each TipResult's warnings

@@ -12,6 +12,7 @@ import math
 from dataclasses import dataclass, fields
 
 from ..tables import check_known_keys
+from .path_zones import check_path_zones
 
 __all__ = ["CRITERIA", "Growth"]
 
@@ -76,6 +77,14 @@ class Growth:
         it applies when the node cloud stays (fixed ``zones``, e.g. ``zones=()``, no
         rosette) and the enrichment is ramped or PU, and falls back to a full rebuild
         otherwise. Same K (to rounding), so the same path and SIFs.
+    path_zones : sequence of (radius, spacing)
+        EFG: node zones along every crack path, re-placed each step
+        (:func:`~efgkit.growth.path_zones.path_zones`: discs of that radius and nodal
+        spacing every radius / 2 along each crack and at its ends, added to the method's
+        zones): refinement that follows the tips and stays where they passed, for cracks
+        that pass close to each other or run into a hole beside another crack. Resolve
+        the gaps the paths leave: a spacing a few times below the narrowest gap and
+        ``da``. Default none.
 
     Examples
     --------
@@ -99,8 +108,10 @@ class Growth:
     snap: float = 0.5
     sif_error: bool = False
     incremental: bool = False
+    path_zones: tuple = ()
 
     def __post_init__(self):
+        object.__setattr__(self, "path_zones", check_path_zones(self.path_zones))
         _positive("da", self.da)
         _positive("max_steps", self.max_steps, integer=True)
         _positive("max_length", self.max_length, allow_none=True)
@@ -143,7 +154,8 @@ class Growth:
         types = {f.name: f.type for f in fields(cls)}
         for k, v in d.items():
             want = types[k]
-            ok = (isinstance(v, str) if "str" in want else isinstance(v, bool) if "bool" in want
+            ok = (isinstance(v, (list, tuple)) if want == "tuple"
+                  else isinstance(v, str) if "str" in want else isinstance(v, bool) if "bool" in want
                   else isinstance(v, int) and not isinstance(v, bool) if want == "int"
                   else isinstance(v, (int, float)) and not isinstance(v, bool))
             if not ok:
