@@ -4,7 +4,8 @@
 points), ``constraints`` (essential conditions as penalty, Lagrange multipliers, the
 modified variational principle or elimination; the linear system they give),
 ``collocation`` (equations replaced by constraint rows: the modified collocation method),
-``linalg`` (direct and preconditioned iterative solves, checked) and ``auxiliary``
+``linalg`` (direct and preconditioned iterative solves, checked; the CG iteration and
+its energy-error bound in ``conjugate_gradient``) and ``auxiliary``
 (the auxiliary-space preconditioner on a P1 stiffness of the nodes).
 """
 

@@ -13,7 +13,8 @@ low-energy modes).
 
 A small residual does not certify CG's answer on an ill-conditioned system (penalty 1e10 E/h:
 relative residual 1.7e-10, coefficients 37 % off), so a bound on its energy error
-(:func:`_error_bound`) must also stay below ``ERROR_FACTOR * rtol``.
+(:func:`~efgkit.system.conjugate_gradient.energy_error_bound`, from the Ritz values of the
+CG run: :mod:`efgkit.system.conjugate_gradient`) must also stay below ``ERROR_FACTOR * rtol``.
 """
 
 from __future__ import annotations
@@ -22,16 +23,15 @@ import time
 import warnings
 
 import numpy as np
-from scipy.linalg import eigvalsh_tridiagonal
 from scipy.sparse import csc_array, csr_array, diags_array
 from scipy.sparse.linalg import LinearOperator, MatrixRankWarning, splu
 
+from .conjugate_gradient import energy_error_bound, preconditioned_cg, ritz_range
 from .constraints import LinearSystem
 
 __all__ = ["solve", "SolverError", "AUTO_AMG_THRESHOLD", "ERROR_FACTOR"]
 
 AUTO_AMG_THRESHOLD = 20_000  # unknowns above which "auto" uses CG for SPD systems
-MAX_ITERATIONS = 400
 # Augmented-Lagrangian weight: its largest diagonal entry over K's. The Uzawa steps shrink a
 # multiplier mode by 1 / (1 + rho mu); at 1e3 the Kirsch plate (symmetry supports, one component
 # per edge) has a mode with rho mu ~ 0.01: 20 steps left the gap at 5e-8 > rtol and 'auto' fell
@@ -42,7 +42,7 @@ MAX_ITERATIONS = 400
 # of K + rho P (~1e-10 relative) well below rtol.
 AUGMENTATION = 1e6
 MAX_UZAWA_STEPS = 20
-# An iterative answer is accepted if the bound on its relative energy error (_error_bound) is at most
+# An iterative answer is accepted if the bound on its relative energy error (energy_error_bound) is at most
 # ERROR_FACTOR * rtol (1e-3 at the default rtol): the bound over the residual measures how far the
 # conditioning amplifies a residual. Measured bounds, CG to rtol 1e-8 (true errors about half):
 # cantilever 48 x 12, 1.3k-29k unknowns, default penalty 6e-7 to 2.6e-6, Nitsche 2e-7; Uzawa steps 5e-8;
@@ -130,93 +130,23 @@ def _compact(A) -> csr_array:
     return A
 
 
-def _cg(A, b, M, atol, x0=None):
-    """Preconditioned CG to ``||b - A x|| < atol`` in MAX_ITERATIONS steps: scipy.sparse.linalg.cg's
-    recurrences (scipy 1.17) operation for operation, the same iterates to the last digit, keeping
-    ``rho_j = r_j^T M r_j`` and ``alpha_j`` for :func:`_ritz_range`. Returns x (n,), rho (k,),
-    alpha (k,) for the k steps taken, and whether ``atol`` was met."""
-    x = np.zeros(len(b)) if x0 is None else np.array(x0, dtype=float)
-    r = b - A @ x if x.any() else b.copy()
-    rho, alpha, p = [], [], None
-    for _ in range(MAX_ITERATIONS):
-        if np.linalg.norm(r) < atol:
-            return x, np.array(rho), np.array(alpha), True
-        z = M.matvec(r)
-        rho.append(np.dot(r, z))
-        if p is None:
-            p = z.copy()
-        else:
-            p *= rho[-1] / rho[-2]
-            p += z
-        q = A @ p
-        alpha.append(rho[-1] / np.dot(p, q))
-        x += alpha[-1] * p
-        r -= alpha[-1] * q
-    return x, np.array(rho), np.array(alpha), False
-
-
-def _ritz_range(rho, alpha) -> tuple[float, float]:
-    """Smallest and largest eigenvalue of the Lanczos matrix of ``M A`` that k CG steps
-    build from their coefficients rho (k,), alpha (k,) (Saad, Iterative Methods for Sparse
-    Linear Systems, 2003, Sect. 6.7.3): with ``beta_j = rho_j / rho_{j-1}``,
-    ``T_00 = 1 / alpha_0``, ``T_jj = 1 / alpha_j + beta_j / alpha_{j-1}`` and ``T_j,j-1 =
-    sqrt(beta_j) / alpha_{j-1}``. The Ritz values lie inside the spectrum, so the smallest
-    overestimates lambda_min(M A), the more so the fewer the steps; (1, 1) without steps, nan
-    after a non-positive rho or alpha (M or A not SPD)."""
-    if len(alpha) == 0:
-        return 1.0, 1.0
-    if np.any(rho <= 0) or np.any(alpha <= 0):  # not SPD: no bound (nan), the answer is refused
-        return np.nan, np.nan
-    beta = rho[1:] / rho[:-1]
-    d = 1.0 / alpha
-    d[1:] += beta / alpha[:-1]
-    lam = eigvalsh_tridiagonal(d, np.sqrt(beta) / alpha[:-1]) if len(d) > 1 else d
-    return float(lam[0]), float(lam[-1])
-
-
-def _error_bound(A, b, z, M, lam_min, K=None, c=None) -> float:
-    """Bound on the relative energy error of an iterative solution z (n,) of ``A z = b``.
-
-    With ``e`` the error and ``r = b - A z = A e`` the residual, for SPD ``A`` and ``M``
-    ``||e||_A^2 = r^T A^-1 r <= r^T M r / lambda_min(M A)``, and for ``A = K + P`` with
-    ``P`` positive semidefinite (penalty, augmented Lagrangian) ``||e||_K <= ||e||_A``, so
-
-        ``||e||_K / ||c||_K <= sqrt(r^T M r / lambda_min(M A) / (c^T K c))``
-
-    for the coefficients c (n_coeffs,) of z and the stiffness K (n_coeffs, n_coeffs) (equality
-    in the second step for an eliminated system; for Nitsche, whose ``A - K`` is indefinite, up
-    to the coercivity constant, ~1). The reference is the stiffness energy, not ``z^T A z``: a
-    penalty term inflates ``z^T A z`` and ``b`` by the work of the prescribed displacements
-    (2.5e4-fold at 1e10 E/h), which let a tiny residual hide a wrong answer; without K (plain
-    SA) it falls back to ``z^T A z``, which cannot see that. ``lambda_min``: the smallest Ritz
-    value of the run (:func:`_ritz_range`), an overestimate. Cost: one product with A, one with
-    M. Measured on the cantilever: 1.03-1.9 times the true error (penalty 1e1-1e12 E/h, Nitsche).
-    """
-    r = b - A @ z
-    rmr = max(float(np.dot(r, M.matvec(r))), 0.0)
-    energy = float(np.dot(c, K @ c)) if K is not None else 0.0
-    if not energy > 0.0:
-        energy = float(np.dot(z, A @ z))
-    return float(np.sqrt(rmr / lam_min / energy)) if energy > 0.0 else np.inf
-
-
 def _iterative(system, near_nullspace, rtol, auxiliary, stiffness):
     """CG with the auxiliary-space (or plain SA) preconditioner; returns z, info with the
-    energy-error bound (:func:`_error_bound`) and, given the stiffness, the penalty scale
-    ``max diag(A - K) / max diag(K)``."""
+    energy-error bound (:func:`~efgkit.system.conjugate_gradient.energy_error_bound`) and,
+    given the stiffness, the penalty scale ``max diag(A - K) / max diag(K)``."""
     A = _compact(system.A)
     t0 = time.perf_counter()
     M, info = _preconditioner(system, near_nullspace, auxiliary, stiffness)
     t1 = time.perf_counter()
-    z, rho, alpha, ok = _cg(A, system.b, M, 0.25 * rtol * float(np.linalg.norm(system.b)))
+    z, rho, alpha, ok = preconditioned_cg(A, system.b, M, 0.25 * rtol * float(np.linalg.norm(system.b)))
     info.update(setup_time=t1 - t0, cg_time=time.perf_counter() - t1, iterations=len(alpha),
                 converged=ok)
-    lo, hi = _ritz_range(rho, alpha)
+    lo, hi = ritz_range(rho, alpha)
     K = csr_array(stiffness) if stiffness is not None and stiffness.shape[0] == system.n_coeffs else None
     if K is not None and system.free is None and K.shape == A.shape:
         info["penalty_scale"] = float((A.diagonal() - K.diagonal()).max() / K.diagonal().max())
     c = system.coefficients(z) if K is not None else None
-    info.update(condition_estimate=hi / lo, error_bound=_error_bound(A, system.b, z, M, lo, K, c))
+    info.update(condition_estimate=hi / lo, error_bound=energy_error_bound(A, system.b, z, M, lo, K, c))
     return z, info
 
 
@@ -252,9 +182,9 @@ def _augmented_lagrangian(system, near_nullspace, rtol, auxiliary, stiffness):
     ok, ritz = False, [np.inf, 0.0]
     while steps < MAX_UZAWA_STEPS:
         rhs = f + G.T @ (rho * d_inv * q - lam)
-        c, rhos, alphas, converged = _cg(A_rho, rhs, M, 0.25 * rtol * bnorm, x0=c)
+        c, rhos, alphas, converged = preconditioned_cg(A_rho, rhs, M, 0.25 * rtol * bnorm, x0=c)
         if len(alphas):  # every step's CG sees the same M A_rho: keep the widest Ritz range
-            lo, hi = _ritz_range(rhos, alphas)
+            lo, hi = ritz_range(rhos, alphas)
             ritz = [min(ritz[0], lo), max(ritz[1], hi)]
         its, steps = its + len(alphas), steps + 1
         gap = G @ c - q
@@ -268,7 +198,7 @@ def _augmented_lagrangian(system, near_nullspace, rtol, auxiliary, stiffness):
                 uzawa_steps=steps, converged=ok)
     ritz = ritz if its else [1.0, 1.0]
     info.update(penalty_scale=AUGMENTATION, condition_estimate=ritz[1] / ritz[0],
-                error_bound=_error_bound(A_rho, rhs, c, M, ritz[0], K, c))
+                error_bound=energy_error_bound(A_rho, rhs, c, M, ritz[0], K, c))
     return np.concatenate([c, lam]), info
 
 
@@ -295,8 +225,9 @@ def solve(system: LinearSystem, solver: str = "auto", near_nullspace=None,
         used without ``auxiliary``).
     rtol : float
         Largest accepted relative residual ||A z - b|| / ||b||. An iterative answer
-        must also have a bound on its relative energy error (:func:`_error_bound`)
-        of at most ``ERROR_FACTOR * rtol`` (1e-3 by default).
+        must also have a bound on its relative energy error
+        (:func:`~efgkit.system.conjugate_gradient.energy_error_bound`) of at most
+        ``ERROR_FACTOR * rtol`` (1e-3 by default).
     auxiliary : callable ``() -> AuxiliarySpace``, optional
         With ``stiffness``, enables the auxiliary-space preconditioner
         (:mod:`efgkit.system.auxiliary`); called only if an iterative solve is
