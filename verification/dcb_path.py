@@ -16,7 +16,8 @@ too large misrepresents the path (Figs. 51, 52); with da = 5 mm linear and sqrt(
 give similar paths. Checked here: the offset from the centre line grows monotonically
 beyond the perturbation's own; in full mode the paths for da, da/2 and da/4 converge: the x where the
 offset reaches h/4 changes less from da/2 to da/4 than from da to da/2. EFG (d_max 2.5,
-automatic tip zones) and the FE reference (full mode). Metrics: per run the path, K and
+automatic tip zones and enrichment), EFG's linear basis without enrichment (``EFG_linear``,
+seed 003's "linear basis"; full mode) and the FE reference (full mode). Metrics: per run the path, K and
 ``x_quarter``; ``<method>_x_quarter_differences``. Quick mode: EFG at h = 100/9 mm,
 da = 20 mm, two increments (the curving only).
 """
@@ -95,7 +96,9 @@ def main(quick: bool = False, out_dir=None) -> dict:
         methods = {"EFG": EFG(spacing=HGT / 9, d_max=D_MAX)}
         das, reach = (20.0,), 40.0
     else:
-        methods = {"EFG": EFG(spacing=HGT / 19, d_max=D_MAX), "FEM": FEM(h=HGT / 20)}
+        methods = {"EFG": EFG(spacing=HGT / 19, d_max=D_MAX),
+                   "EFG_linear": EFG(spacing=HGT / 19, d_max=D_MAX, enrichment="none"),
+                   "FEM": FEM(h=HGT / 20)}
         das, reach = (10.0, 5.0, 2.5), L - A
     runs = {f"{m}/da={da:g}": path(meth, da, math.ceil(reach / da)) for m, meth in methods.items()
             for da in das}
