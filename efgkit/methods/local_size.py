@@ -20,7 +20,7 @@ from ..system.krylov import AUTO_KRYLOV_THRESHOLD
 from .mlpg import MLPG
 from .size import SLOT_BYTES, SizeEstimate, size_estimate
 
-__all__ = ["local_size_estimate", "CUT_ROWS", "CUT_PIECES"]
+__all__ = ["local_size_estimate", "CUT_ROWS", "CUT_PIECES", "TIP_DISC_POINTS"]
 
 # Calibration (unit plate, left edge clamped, quadratic basis, d_max 2.5, 5 x 8 / 16 Gauss,
 # regular grid; peak RSS above the interpreter of solve(), which holds the disc, boundary
@@ -33,6 +33,12 @@ __all__ = ["local_size_estimate", "CUT_ROWS", "CUT_PIECES"]
 # within r_s of it, with CUT_PIECES angular pieces each (measured: 400 cut discs, 2 pieces).
 CUT_ROWS = 2.0
 CUT_PIECES = 2.0
+# Discs near a crack tip (methods.local_tips), counted on the SENT of seed 001 at 20, 40 and 80
+# across (the same at every spacing: a fixed number per tip), per unit of their rule: with an
+# enrichment 23 discs x 1.7 angular pieces of tip_radial x tip_angular points (49,920 points at
+# 20 x 64); without, 27 discs split into 24.6 pieces (angular x radial) of split_radial x
+# split_angular points (95,600 at 3 x 48). Scaled by the disc count's area ((r_s + reach)^2).
+TIP_DISC_POINTS = {"refined": 23 * 1.7, "split": 27 * 24.6}
 NODE_BYTES_DIRECT = 35e3  # per node beyond the shape functions: K, its LU (SuperLU), f
 # per node with GMRES: K (147 non-zeros per node, 1.8 kB) and its ILU factors (drop 1e-5,
 # fill 20: nnz(L + U) 2,290 per node at 100k nodes, 27 kB; efgkit.system.krylov), the GMRES(50)
@@ -70,6 +76,7 @@ def local_size_estimate(scene: Scene, method: MLPG) -> SizeEstimate:
     boundary = cut * 2 * method.boundary_order
     parts = {f"spacing = {method.spacing!r}: test discs, radial = {method.radial}, angular = "
              f"{method.angular}": full,
+             **_tip_parts(scene, method),
              f"discs cut by the boundary or a crack, cut_angular = {method.cut_angular}": pieces,
              f"boundary pieces, boundary_order = {method.boundary_order}": boundary,
              **{f"field quadrature: {k}": v for k, v in cells.point_parts.items()}}
@@ -80,3 +87,21 @@ def local_size_estimate(scene: Scene, method: MLPG) -> SizeEstimate:
     return replace(cells, points=points, point_parts=parts,
                    shape_bytes=SLOT_BYTES * points * cells.width,
                    solve_bytes=per_node * (method.d_max / 2.5) ** 2 * cells.nodes)
+
+
+def _tip_parts(scene: Scene, method: MLPG) -> dict:
+    """The points of the discs near the crack tips (module comment), {name: count}."""
+    n = len(scene.tips)
+    if not n:
+        return {}
+    if method.enrichment != "none":
+        count = (n * TIP_DISC_POINTS["refined"] * ((method.test_radius + 1.0) / 2.5) ** 2
+                 * method.tip_radial * method.tip_angular)
+        return {f"discs near {n} tip(s), tip_radial x tip_angular = {method.tip_radial} x "
+                f"{method.tip_angular}": count}
+    if method.quadrature != "gauss":
+        return {}
+    count = (n * TIP_DISC_POINTS["split"] * ((method.test_radius + method.d_max - 1.0) / 3.0) ** 2
+             * (method.d_max / 2.5) ** 2 * method.split_radial * method.split_angular)
+    return {f"discs near {n} tip(s) split at shadow rays and support circles, split_radial x "
+            f"split_angular = {method.split_radial} x {method.split_angular}": count}
