@@ -156,7 +156,8 @@ def radius_table(m: dict) -> list[str]:
             "d_max 2.5, Gaussian k = 1) in EFG's Galerkin form. Domains 3-4.5 mm are 0.6-0.9 "
             "of a = W - a = 5 mm. Plain MLPG's discs near the tip split their rays at the shadow "
             "rays and support circles (without that its J moved by ~1 % with the disc rule; with "
-            "it the 1-4 mm mean moves by <= 0.05 % between 3 x 48 and 12 x 96 points per piece; "
+            "it the 1-4 mm mean moves by <= 0.09 % (40 across) and <= 0.05 % (80 across) between "
+            "3 x 48 and 12 x 96 points per piece; "
             "docs/theory.md, MLPG1, \"The plain SENT and the J domain\"). Its mean over 1-4 mm "
             "meets the 0.3 % target partly by cancellation: its single domains run from +0.7 % "
             "(1 mm) to -0.4 % (4 mm).",

@@ -107,9 +107,9 @@ class MLPG(MeshlessChoices):
         crosses get every ray split where it crosses a shadow ray or a support circle,
         ``split_radial`` points per radial piece and ``split_angular`` per angular piece
         (:func:`~efgkit.methods.local_tips.split_tip_discs`). Default 3 x 48: plain SENT J
-        (40 across, mean over 1-4 mm) 0.426 % above FEM, 0.426 / 0.449 / 0.400 % with 4 x 48
-        / 4 x 64 / 12 x 96 (192 per piece), 0.488 / 0.164 % with 5 x 24 / 6 x 32 (the angular
-        count matters), against 1.77 % unsplit.
+        (40 across, mean over 1-4 mm) 0.426 % above FEM; 0.426 / 0.449 % with 4 x 48 / 4 x 64,
+        0.400 / 0.339 % with 8 x 48 / 12 x 96 (96 / 192 per cut piece), 0.488 / 0.164 % with
+        5 x 24 / 6 x 32 (the angular count matters), against 1.77 % unsplit.
     order, refined_order, cell_size, tip_order :
         The background cells of the field quadrature (:func:`~efgkit.quadrature.cells.cell_points`)
         on which energies, errors and J integrals are integrated (MLPG's discs overlap:
