@@ -11,9 +11,9 @@ grew into other holes, but in general the cracks seemed to deflect away from the
 The seed gives no dimensions, no material and no toughness; chosen and stated here (N, mm,
 MPa):
 
-* plate 50 x 50 mm; 31 holes of radius 2 mm placed by random sequential addition
-  (``np.random.default_rng(HOLE_SEED)``) with centres at least 2 R + 3 mm apart (ligaments
-  of 3 mm or more) and at least R + 2.5 mm from the edges;
+* plate 50 x 50 mm; 31 holes of radius R = 1.5 mm placed by random sequential addition
+  (``np.random.default_rng(HOLE_SEED)``) with centres at least 2 R + 2.5 mm apart (ligaments
+  of 2.5 mm or more) and at least R + 2 mm from the edges;
 * a brittle polymer (Al-Ostaz and Jasiuk tested brittle polymer sheets): E = 3 GPa,
   nu = 0.35, plane stress, K_Ic = 0.8 MPa sqrt(m) = 25.3 MPa sqrt(mm);
 * bottom edge fixed (ux = uy = 0), top edge uy = u, ux free;
@@ -24,7 +24,7 @@ MPa):
   the seed names none);
 * crack seeding: the crack-free solve's von Mises stress (seed Fig. 61) sampled on circles
   of radius R + h/4 around every hole (96 angles); the seven holes with the highest peaks
-  each get one radial crack of a0 = 2 mm (2.5 h) at their peak (one per hole: the hoop
+  each get one radial crack of a0 = 1.5 mm (2 h) at their peak (one per hole: the hoop
   stress peaks twice per hole, on opposite sides, and the seed's seven cracks sit at seven
   different holes in Fig. 62a);
 * loading by a toughness criterion (:func:`~efgkit.fracture.criteria.critical_load_factor`):
