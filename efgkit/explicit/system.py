@@ -28,11 +28,9 @@ form is in K (its prescribed values in ``f_bc``); ``"modified_mls"``: as above;
 by the projection (the equations of those nodes are kept, with the constraint's reaction,
 instead of replaced as in the static solve). K is not symmetric: docs/theory.md
 ("Explicit MLPG") on its spectrum and the energy balance; the trial weight of explicit runs
-is ``MLPG.explicit_weight`` (:func:`~efgkit.explicit.mlpg_weight.explicit_mlpg`). All that
-is MLPG1 (``MLPG.explicit_form="petrov_galerkin"``, opt-in): by default
-(``explicit_form="auto"``, with a warning) explicit MLPG runs step the symmetric Galerkin
-form of the same trial functions instead (:mod:`efgkit.explicit.galerkin_form`), which also
-takes tip enrichment (``enrichment_mass`` as for EFG).
+is ``MLPG.explicit_weight`` (:func:`~efgkit.explicit.mlpg_weight.explicit_mlpg`). That is
+MLPG1 (``explicit_form="petrov_galerkin"``, opt-in); by default explicit MLPG runs step the
+symmetric Galerkin form of its trial functions (:mod:`efgkit.explicit.galerkin_form`).
 """
 
 from __future__ import annotations
