@@ -12,6 +12,7 @@ from efgkit.explicit import InstabilityError, dense_operator, dynamics, integrat
 from efgkit.explicit.galerkin_form import galerkin_discretization, resolve_form
 from efgkit.methods.discretize import discretize
 from efgkit.methods.local import discretize_local
+from efgkit.methods.mlpg_file import mlpg_from_dict
 from efgkit.problem.history import Stepping
 
 MAT = Elastic(1000.0, 0.3, "stress", rho=2.0)
@@ -161,3 +162,9 @@ def test_explicit_trial_fields_bad_input():
         with pytest.raises(err, match=rf"explicit_weight_k must be 'auto', 'same' or an integer "
                            rf"> 0, got {bad!r}: give 'auto'"):
             MLPG(spacing=0.25, explicit_weight_k=bad)
+    # scene files: [mlpg] keys (efgkit.methods.mlpg_file), checked by MLPG itself
+    m = mlpg_from_dict({"spacing": 0.25, "explicit_crack_rule": "same", "explicit_weight_k": 3})
+    assert (m.explicit_crack_rule, m.explicit_weight_k) == ("same", 3)
+    with pytest.raises(ValueError, match="mlpg: explicit_weight_k must be 'auto', 'same' or an "
+                       "integer > 0, got -1"):
+        mlpg_from_dict({"spacing": 0.25, "explicit_weight_k": -1})

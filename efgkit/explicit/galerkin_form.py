@@ -34,6 +34,17 @@ step after a number of steps set by its growing modes (on the free 2 x 1 plate o
 ``verification/stability.py`` at h = 0.125 and 0.98 dt_c: 38 steps with the Gaussian
 weight, 1882 with the cubic weight that ``explicit_weight="auto"`` steps in its place), so
 it is kept for study only (docs/theory.md, "Explicit MLPG").
+
+Its trial functions are MLPG's with two choices of explicit runs (:func:`trial_choices`,
+``MLPG.explicit_crack_rule`` and ``explicit_weight_k``, "auto"): the diffraction crack rule
+in place of visibility, whose jumps along the shadow rays from the nodes through a tip
+cross the J' domain, and the seed's Gaussian ``k = 2`` (seed 002 Eq. 7) in place of
+``k = 1``, MLPG's static default chosen against the near-singular bending mode of MLPG1's
+Petrov-Galerkin system, which a symmetric K does not have. Measured on Freund's K_I(t)
+(``verification/freund.py``, :func:`spacings` there; error of K from J' at h = 0.02 / 0.01
+/ 0.005): k = 2 with diffraction 0.23 / 0.88 / 0.78 %, k = 1 with diffraction 2.95 / 3.88 /
+0.77 %, k = 2 with visibility 1.85 / 1.38 / 1.51 %; k = 1 with visibility (the static
+trial functions) 4.10 % at h = 0.01.
 """
 
 from __future__ import annotations
@@ -126,9 +137,9 @@ def resolve_form(method: MLPG, warn: bool = True, cracked: bool = True,
                  for n, v in kw.items() if n == "weight_k" and method.weight == "gaussian"]
         trial_text = (" Its trial functions take " + " and ".join(said) + " (MLPG."
                       "explicit_crack_rule / explicit_weight_k = 'auto': Freund's K_I(t) from "
-                      "J' within 0.9 % at h = 0.02 / 0.01 / 0.005, against 4.1 % with k = 1 "
-                      "and the visibility rule, whose jumps along the shadow rays cross the J' "
-                      "domain).") if said else ""
+                      "J' within 0.23 / 0.88 / 0.78 % at h = 0.02 / 0.01 / 0.005, against "
+                      "4.10 % at h = 0.01 with k = 1 and the visibility rule, whose jumps along "
+                      "the shadow rays cross the J' domain).") if said else ""
         warnings.warn(
             "explicit MLPG: this run steps the symmetric Galerkin form of MLPG's trial "
             "functions on the field cells (MLPG.explicit_form='auto'), not MLPG1's local "
