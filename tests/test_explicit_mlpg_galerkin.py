@@ -12,6 +12,7 @@ from efgkit.explicit import InstabilityError, dense_operator, dynamics, integrat
 from efgkit.explicit.galerkin_form import galerkin_discretization, resolve_form
 from efgkit.methods.discretize import discretize
 from efgkit.methods.local import discretize_local
+from efgkit.methods.mlpg_file import mlpg_from_dict
 from efgkit.problem.history import Stepping
 
 MAT = Elastic(1000.0, 0.3, "stress", rho=2.0)
@@ -52,7 +53,7 @@ def test_crack_face_pressure_loads_the_faces():
     # a pressure p on both faces: the load is self-equilibrated (the nodal shape functions are
     # a partition of unity on each face: exact), and the nodes on each face (split on the crack)
     # are pushed away from it; each face's total p a (2.0) is spread over nodes on both sides
-    # near the tip (visibility), so it is checked on the split nodes' sign only
+    # near the tip (diffraction, the explicit default), so it is checked on the split nodes' sign only
     p, a = 2.0, 1.0
     scene = Scene(Domain.rectangle(0, -1, 2, 1), MAT, duration=1.0,
                   cracks=(Crack([[0.0, 0.0], [a, 0.0]], tips=(False, True), pressure=p),))
@@ -115,3 +116,55 @@ def test_bad_input():
     efg = discretize(Scene(Domain.rectangle(0, 0, 1, 1), MAT), EFG(spacing=0.5))
     with pytest.raises(ValueError, match="disc must be an MLPG discretisation"):
         galerkin_discretization(efg)
+
+
+def test_galerkin_runs_take_the_explicit_trial_functions():
+    # explicit_crack_rule / explicit_weight_k = "auto": the Galerkin form takes diffraction and
+    # the seed's k = 2 (seed 002 Eq. 7) in place of visibility and k = 1 (Freund's K_I(t),
+    # docs/theory.md "Explicit MLPG"), named in the one warning of explicit_form="auto";
+    # static solves and MLPG1 keep the static fields; "same" keeps them too
+    crack = (Crack([[0.0, 0.5], [1.0, 0.5]], tips=(False, True)),)
+    cracked = Scene(Domain.rectangle(0, 0, 2, 1), MAT, cracks=crack, **INIT)
+    with pytest.warns(UserWarning, match=r"Its trial functions take crack_rule='diffraction' in "
+                      r"place of 'visibility' and the Gaussian exponent k = 2 in place of 1 ") as rec:
+        dyn = dynamics(cracked, MLPG(spacing=0.25))
+    assert len(rec) == 1  # one warning, not two
+    assert (dyn.disc.method.crack_rule, dyn.disc.method.weight_k) == ("diffraction", 2)
+    assert (MLPG(spacing=0.25).crack_rule, MLPG(spacing=0.25).weight_k) == ("visibility", 1)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        given = dynamics(cracked, MLPG(spacing=0.25, explicit_form="galerkin"))
+        same = dynamics(cracked, MLPG(spacing=0.25, explicit_form="galerkin",
+                                      explicit_crack_rule="same", explicit_weight_k="same"))
+        named = resolve_form(MLPG(spacing=0.25, explicit_form="petrov_galerkin",
+                                  explicit_crack_rule="transparency", explicit_weight_k=3))
+    np.testing.assert_array_equal(given.K.toarray(), dyn.K.toarray())
+    assert (same.disc.method.crack_rule, same.disc.method.weight_k) == ("visibility", 1)
+    assert (named.crack_rule, named.weight_k) == ("transparency", 3)  # named: any form
+    pg = resolve_form(MLPG(spacing=0.25, explicit_form="petrov_galerkin"))
+    assert (pg.crack_rule, pg.weight_k) == ("visibility", 1)
+    # without cracks the warning names the exponent only; other user values stay
+    with pytest.warns(UserWarning, match=r"take the Gaussian exponent k = 2 in place of 1 "):
+        resolve_form(MLPG(spacing=0.25), cracked=False)
+    kept = resolve_form(MLPG(spacing=0.25, weight_k=3, crack_rule="see_through"), warn=False)
+    assert (kept.crack_rule, kept.weight_k) == ("see_through", 3)
+    assert resolve_form(MLPG(spacing=0.25), warn=False, trial=False).weight_k == 1
+
+
+def test_explicit_trial_fields_bad_input():
+    with pytest.raises(ValueError, match=r"explicit_crack_rule must be one of \('auto', 'same', "
+                       r"'visibility', .*got 'difraction': give 'auto'"):
+        MLPG(spacing=0.25, explicit_crack_rule="difraction")
+    with pytest.raises(ValueError, match=r"explicit_crack_rule='transparency' needs rule_power "
+                       r">= 2 \(seed 003 Eq. 32\), got rule_power=1.0: give rule_power=2"):
+        MLPG(spacing=0.25, explicit_crack_rule="transparency", rule_power=1.0)
+    for bad, err in ((0, ValueError), ("two", ValueError), (2.0, TypeError), (True, TypeError)):
+        with pytest.raises(err, match=rf"explicit_weight_k must be 'auto', 'same' or an integer "
+                           rf"> 0, got {bad!r}: give 'auto'"):
+            MLPG(spacing=0.25, explicit_weight_k=bad)
+    # scene files: [mlpg] keys (efgkit.methods.mlpg_file), checked by MLPG itself
+    m = mlpg_from_dict({"spacing": 0.25, "explicit_crack_rule": "same", "explicit_weight_k": 3})
+    assert (m.explicit_crack_rule, m.explicit_weight_k) == ("same", 3)
+    with pytest.raises(ValueError, match="mlpg: explicit_weight_k must be 'auto', 'same' or an "
+                       "integer > 0, got -1"):
+        mlpg_from_dict({"spacing": 0.25, "explicit_weight_k": -1})

@@ -32,18 +32,22 @@ critical step, for EFG and MLPG's Galerkin form (MLPG1 runs without enrichment).
 
 MLPG rows. Explicit MLPG runs step the symmetric Galerkin form of MLPG's trial functions
 on the field cells by default (``MLPG.explicit_form``, :mod:`efgkit.explicit.galerkin_form`;
-MLPG1's own ``M^-1 K`` has modes that grow at any step, docs/theory.md, "Explicit MLPG"):
+MLPG1's own ``M^-1 K`` has modes that grow at any step, docs/theory.md, "Explicit MLPG"),
+and that form takes the diffraction crack rule and the seed's Gaussian ``k = 2`` (seed 002
+Eq. 7) in place of MLPG's static visibility and ``k = 1`` (``MLPG.explicit_crack_rule`` and
+``explicit_weight_k`` = "auto"; measured at three spacings by :func:`spacings`):
 
-* ``mlpg``: that form with two choices stated by rule, not by this benchmark's K: the
-  diffraction crack rule (the visibility rule, MLPG's static default, makes the trial
-  functions jump along the rays from the nodes through the tip, which the J' domain
-  integrates across; efgkit refuses visibility with a tip enrichment for the same reason)
-  and the seed's Gaussian ``k = 2`` (seed 002 Eq. 7; MLPG's static default ``k = 1`` was
+* ``mlpg``: MLPG's defaults, ``MLPG(spacing=h)``, what an explicit MLPG run steps (the
+  warning of ``explicit_form="auto"`` is expected and filtered). Full mode also runs it
+  with the tip enrichments (which the visibility rule refuses).
+* ``mlpg_visibility`` (full mode): the same with MLPG's static visibility rule
+  (``explicit_crack_rule="same"``): its trial functions jump along the rays from the nodes
+  through the tip, which the J' domain integrates across;
+* ``mlpg_k1`` (full mode): the same with MLPG's static ``k = 1`` (``explicit_weight_k="same"``;
   chosen for the near-singular bending mode of MLPG1's Petrov-Galerkin system, which a
-  symmetric positive K does not have). Full mode also runs it with the tip enrichments.
-* ``mlpg_visibility`` (full mode): the same with MLPG's visibility rule;
-* ``mlpg_defaults`` (full mode): MLPG's own defaults (``k = 1``, visibility) in that form,
-  what ``MLPG(spacing=h)`` steps: the issue's 1 % is not reached with them;
+  symmetric positive K does not have);
+* ``mlpg_static_trial`` (full mode): MLPG's static trial functions (``k = 1``, visibility)
+  in that form, the default of explicit runs before the explicit fields;
 * ``mlpg1`` (full mode): MLPG1 (``explicit_form="petrov_galerkin"``, opt-in) with the
   quartic-spline trial weight and the seed's 1.1 h discs, stepped for its short window
   (with the Gaussian its negative real eigenvalues give 58 % at h = 0.05 and a blow-up at
@@ -56,6 +60,7 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from dataclasses import replace
 
 import numpy as np
@@ -73,15 +78,15 @@ L, W, H, SIGMA = 1.0, 0.5, 0.5, 1.0
 MAT = Elastic(1.0, 0.3, "strain", rho=1.0)
 RADII = (0.1 * L, 0.125 * L, 0.15 * L)
 TARGET = 0.01  # the issue's target on the largest relative error
-GALERKIN = dict(explicit_form="galerkin")  # the default form of explicit MLPG runs, stated
+STATIC_RULE, STATIC_K = dict(explicit_crack_rule="same"), dict(explicit_weight_k="same")
 # discretisations: name -> spacing -> method (module docstring)
 METHODS = {"efg": lambda h, enrichment="none": EFG(spacing=h, enrichment=enrichment),
-           "mlpg": lambda h, enrichment="none": MLPG(spacing=h, weight_k=2, crack_rule="diffraction",
-                                                     enrichment=enrichment, **GALERKIN),
-           "mlpg_visibility": lambda h, enrichment="none": MLPG(spacing=h, weight_k=2,
-                                                                enrichment=enrichment, **GALERKIN),
-           "mlpg_defaults": lambda h, enrichment="none": MLPG(spacing=h, enrichment=enrichment,
-                                                              **GALERKIN),
+           "mlpg": lambda h, enrichment="none": MLPG(spacing=h, enrichment=enrichment),
+           "mlpg_visibility": lambda h, enrichment="none": MLPG(spacing=h, enrichment=enrichment,
+                                                                **STATIC_RULE),
+           "mlpg_k1": lambda h, enrichment="none": MLPG(spacing=h, enrichment=enrichment, **STATIC_K),
+           "mlpg_static_trial": lambda h, enrichment="none": MLPG(spacing=h, enrichment=enrichment,
+                                                                  **STATIC_RULE, **STATIC_K),
            "mlpg1": lambda h, enrichment="none": MLPG(spacing=h, weight="quartic", enrichment=enrichment,
                                                       explicit_form="petrov_galerkin", **SEED_DISCS)}
 CHECKED = ("efg", "mlpg")  # the issue's 1 % applies to these rows (module docstring)
@@ -120,7 +125,9 @@ def run(method, h: float, n_out: int, enrichment: str = "none", terms: bool = Fa
     sc = scene()
     m = METHODS[method](h, enrichment) if isinstance(method, str) else method
     t0 = time.perf_counter()
-    dyn = dynamics(sc, m, enrichment_mass=enrichment_mass)
+    with warnings.catch_warnings():  # MLPG's defaults: explicit_form="auto" says what it steps
+        warnings.filterwarnings("ignore", "explicit MLPG: this run steps the symmetric", UserWarning)
+        dyn = dynamics(sc, m, enrichment_mass=enrichment_mass)
     dtc, _ = stable_step(dyn)
     hooks = {"full": DynamicDSIF(radii=RADII)}
     if terms:
@@ -162,7 +169,7 @@ def factors(h: float = 0.01, n_out: int = 40) -> dict:
              "efg/visibility": replace(efg, crack_rule="visibility"),
              "mlpg_visibility/quartic": replace(vis, weight="quartic"),
              "mlpg_visibility/no crack nodes": replace(vis, crack_nodes=False),
-             "mlpg/k = 1": replace(mlpg, weight_k=1),
+             "mlpg/k = 1": replace(mlpg, explicit_weight_k=1),
              "mlpg/quartic": replace(mlpg, weight="quartic"),
              "mlpg/cubic": replace(mlpg, weight="cubic"),
              "mlpg/d_max 3": replace(mlpg, d_max=3.0)}
@@ -177,6 +184,21 @@ def factors(h: float = 0.01, n_out: int = 40) -> dict:
                                              r["lumped_acceleration"]["error_interaction"])
         r = run(key, h, n_out, safety=0.45)
         out[f"{key}/safety 0.45"] = (r["full"]["error_J"], r["full"]["error_interaction"])
+    return out
+
+
+def spacings(hs=(0.02, 0.01, 0.005), n_out: int = 40) -> dict:
+    """The trial functions of MLPG's Galerkin form at three spacings, one factor at a time
+    (the choice of ``MLPG.explicit_crack_rule`` and ``explicit_weight_k``, docs/theory.md,
+    "Explicit MLPG"; not part of :func:`main`: about 10 min on the shared machine):
+    ``{"k = <k>, <rule>": {h: (error of K from J', error of K interaction)}}``."""
+    out = {}
+    for k in (1, 2):
+        for rule in ("visibility", "diffraction"):
+            for h in hs:
+                r = run(MLPG(spacing=h, explicit_weight_k=k, explicit_crack_rule=rule), h, n_out)
+                out.setdefault(f"k = {k}, {rule}", {})[h] = (r["full"]["error_J"],
+                                                             r["full"]["error_interaction"])
     return out
 
 
@@ -255,12 +277,13 @@ def markdown(r: dict) -> list[str]:
             f"t <= {s['t_end']:.4g} = (L - R_max) / c_d, J' discs R = {s['radii']}. Error: the "
             "largest |K / K_exact - 1| over the second half of the window.", "",
             "MLPG rows (explicit MLPG runs step the symmetric Galerkin form of MLPG's trial "
-            "functions by default; MLPG1's M^-1 K has modes growing at any step): mlpg: that "
-            "form with the diffraction crack rule and the seed's Gaussian k = 2 (rules stated "
-            "in verification/freund.py); mlpg_visibility: with MLPG's visibility rule; "
-            "mlpg_defaults: MLPG's defaults (k = 1, visibility), what MLPG(spacing=h) steps; "
-            "mlpg1: MLPG1 itself (explicit_form='petrov_galerkin', quartic weight, 1.1 h "
-            "discs), short enough a run for its growing modes.", "", *rows, "",
+            "functions by default, with the diffraction rule and the seed's Gaussian k = 2 in "
+            "place of the static visibility and k = 1: MLPG.explicit_crack_rule and "
+            "explicit_weight_k; MLPG1's M^-1 K has modes growing at any step): mlpg: MLPG's "
+            "defaults, what MLPG(spacing=h) steps; mlpg_visibility: with the static visibility "
+            "rule; mlpg_k1: with the static k = 1; mlpg_static_trial: with both (the static "
+            "trial functions); mlpg1: MLPG1 itself (explicit_form='petrov_galerkin', quartic "
+            "weight, 1.1 h discs), short enough a run for its growing modes.", "", *rows, "",
             "J' with its terms dropped (the same states): the crack-face term carries the "
             "load (without it J'_1 is far off, though not negative here); the inertia term is "
             "small in these discs (0.1-0.15 L about a stationary tip); lumped_acceleration: "

@@ -85,8 +85,8 @@ TITLE = "Explicit stability and energy conservation (seed 002 Eqs. 28-30)"
 MAT = Elastic(1000.0, 0.3, "stress", rho=1.0)
 DRIFT_BOUND = 1e-10  # the issue's bound on the relative energy drift without load
 EARLY = 10  # MLPG: steps of the early energy-drift measurement (before growing modes show)
-# seed 002 Sect. 4 (Gaussian k = 2, test discs 1.1 h), MLPG's default until issue 14 moved it to
-# k = 1, 1.5 h (docs/theory.md, MLPG1): the weight this record measures
+# seed 002 Sect. 4 (Gaussian k = 2, test discs 1.1 h; k = 1, 1.5 h statically since issue 14, k = 2 in
+# explicit Galerkin-form runs by default: MLPG.explicit_weight_k): the weight this record measures
 SEED_WEIGHT = dict(weight_k=2, test_radius=1.1)
 # the MLPG1 rows step MLPG1 itself (opt-in: explicit MLPG runs default to the Galerkin form,
 # the rows ..._galerkin; MLPG.explicit_form)

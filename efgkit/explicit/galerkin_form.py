@@ -34,6 +34,17 @@ step after a number of steps set by its growing modes (on the free 2 x 1 plate o
 ``verification/stability.py`` at h = 0.125 and 0.98 dt_c: 38 steps with the Gaussian
 weight, 1882 with the cubic weight that ``explicit_weight="auto"`` steps in its place), so
 it is kept for study only (docs/theory.md, "Explicit MLPG").
+
+Its trial functions are MLPG's with two choices of explicit runs (:func:`trial_choices`,
+``MLPG.explicit_crack_rule`` and ``explicit_weight_k``, "auto"): the diffraction crack rule
+in place of visibility, whose jumps along the shadow rays from the nodes through a tip
+cross the J' domain, and the seed's Gaussian ``k = 2`` (seed 002 Eq. 7) in place of
+``k = 1``, MLPG's static default chosen against the near-singular bending mode of MLPG1's
+Petrov-Galerkin system, which a symmetric K does not have. Measured on Freund's K_I(t)
+(``verification/freund.py``, :func:`spacings` there; error of K from J' at h = 0.02 / 0.01
+/ 0.005): k = 2 with diffraction 0.23 / 0.88 / 0.78 %, k = 1 with diffraction 2.95 / 3.88 /
+0.77 %, k = 2 with visibility 1.85 / 1.38 / 1.51 %, k = 1 with visibility (the static
+trial functions) 9.52 / 4.10 / 4.51 %.
 """
 
 from __future__ import annotations
@@ -52,41 +63,95 @@ from ..system.constraints import penalty
 from ..system.mass import row_sum_mass
 from .moving import split_values, still_scene
 
-__all__ = ["galerkin_discretization", "galerkin_system", "resolve_form"]
+__all__ = ["EXPLICIT_AUTO_CRACK_RULE", "EXPLICIT_AUTO_WEIGHT_K", "galerkin_discretization",
+           "galerkin_system", "resolve_form", "trial_choices"]
 
 
-def resolve_form(method: MLPG, warn: bool = True) -> MLPG:
-    """``method`` with the equations of its explicit runs decided (``method.explicit_form``).
+EXPLICIT_AUTO_CRACK_RULE = "diffraction"  # explicit_crack_rule="auto" in place of visibility
+EXPLICIT_AUTO_WEIGHT_K = 2  # explicit_weight_k="auto" in place of k = 1 (seed 002 Eq. 7)
 
-    ``"auto"`` becomes ``"galerkin"`` (module docstring), with a ``UserWarning`` saying so
-    when ``warn``; ``"galerkin"`` and ``"petrov_galerkin"`` stay, silently.
+
+def trial_choices(method: MLPG) -> dict:
+    """The trial-function changes of ``method``'s explicit runs as keyword changes:
+    ``explicit_crack_rule`` and ``explicit_weight_k`` (a name or an integer: that value;
+    "same": none; "auto": with the Galerkin form, ``"visibility"`` becomes
+    :data:`EXPLICIT_AUTO_CRACK_RULE` and the Gaussian's ``k = 1`` becomes
+    :data:`EXPLICIT_AUTO_WEIGHT_K`, measured on Freund's K_I(t): docs/theory.md, "Explicit
+    MLPG"). ``method.explicit_form`` must be resolved (not "auto").
+
+    Examples
+    --------
+    >>> trial_choices(MLPG(spacing=0.1, explicit_form="galerkin"))
+    {'crack_rule': 'diffraction', 'weight_k': 2}
+    >>> trial_choices(MLPG(spacing=0.1, explicit_form="petrov_galerkin"))
+    {}
+    >>> trial_choices(MLPG(spacing=0.1, explicit_form="galerkin", explicit_crack_rule="same",
+    ...                    explicit_weight_k=3))
+    {'weight_k': 3}
+    """
+    galerkin = method.explicit_form == "galerkin"
+    kw = {}
+    rule, k = method.explicit_crack_rule, method.explicit_weight_k
+    if rule == "auto":
+        rule = EXPLICIT_AUTO_CRACK_RULE if galerkin and method.crack_rule == "visibility" else "same"
+    if rule not in ("same", method.crack_rule):
+        kw["crack_rule"] = rule
+    if k == "auto":
+        k = EXPLICIT_AUTO_WEIGHT_K if galerkin and method.weight_k == 1 else "same"
+    if k not in ("same", method.weight_k):
+        kw["weight_k"] = int(k)
+    return kw
+
+
+def resolve_form(method: MLPG, warn: bool = True, cracked: bool = True,
+                 trial: bool = True) -> MLPG:
+    """``method`` with the equations of its explicit runs decided (``method.explicit_form``)
+    and, with ``trial``, their trial functions (:func:`trial_choices`).
+
+    ``"auto"`` becomes ``"galerkin"`` (module docstring), with one ``UserWarning`` saying so
+    when ``warn``, which also names the trial-function changes (the crack rule only when
+    ``cracked``: the scene has cracks; the exponent only with the Gaussian weight);
+    ``"galerkin"`` and ``"petrov_galerkin"`` stay, silently. ``trial=False`` (a
+    discretisation given, whose trial functions are used): the form only.
 
     Examples
     --------
     >>> import warnings
     >>> with warnings.catch_warnings():
     ...     warnings.simplefilter("ignore")
-    ...     resolve_form(MLPG(spacing=0.1)).explicit_form
-    'galerkin'
-    >>> resolve_form(MLPG(spacing=0.1, explicit_form="petrov_galerkin")).explicit_form
-    'petrov_galerkin'
+    ...     m = resolve_form(MLPG(spacing=0.1))
+    >>> m.explicit_form, m.crack_rule, m.weight_k
+    ('galerkin', 'diffraction', 2)
+    >>> resolve_form(MLPG(spacing=0.1, explicit_form="petrov_galerkin")).weight_k
+    1
     """
     if not isinstance(method, MLPG):
         raise TypeError(f"method must be an MLPG description, got {type(method).__name__}")
-    if method.explicit_form != "auto":
-        return method
-    if warn:
+    auto = method.explicit_form == "auto"
+    resolved = replace(method, explicit_form="galerkin") if auto else method
+    kw = trial_choices(resolved) if trial else {}
+    if warn and auto:
+        said = [f"crack_rule={v!r} in place of {method.crack_rule!r}" for n, v in kw.items()
+                if n == "crack_rule" and cracked]
+        said += [f"the Gaussian exponent k = {v} in place of {method.weight_k}"
+                 for n, v in kw.items() if n == "weight_k" and method.weight == "gaussian"]
+        trial_text = (" Its trial functions take " + " and ".join(said) + " (MLPG."
+                      "explicit_crack_rule / explicit_weight_k = 'auto': Freund's K_I(t) from "
+                      "J' within 0.23 / 0.88 / 0.78 % at h = 0.02 / 0.01 / 0.005, against "
+                      "4.10 % at h = 0.01 with k = 1 and the visibility rule, whose jumps along "
+                      "the shadow rays cross the J' domain).") if said else ""
         warnings.warn(
             "explicit MLPG: this run steps the symmetric Galerkin form of MLPG's trial "
             "functions on the field cells (MLPG.explicit_form='auto'), not MLPG1's local "
             "Petrov-Galerkin rows, whose M^-1 K has modes that grow at any time step (a free "
             "2 x 1 plate at h = 0.125 and 0.98 dt_c blows up after 1882 steps with the cubic "
             "weight, 38 with the Gaussian; the Galerkin form runs 1e4 steps with an energy "
-            "drift below 1e-12; docs/theory.md, 'Explicit MLPG'). Static solves keep MLPG1. "
+            f"drift below 1e-12; docs/theory.md, 'Explicit MLPG').{trial_text} Static solves "
+            "keep MLPG1 and its trial functions. "
             "Give MLPG(explicit_form='galerkin') (scene file: [mlpg] explicit_form = "
             "\"galerkin\") to silence this, or explicit_form='petrov_galerkin' to step MLPG1 "
             "(for study: it blows up)", UserWarning, stacklevel=4)
-    return replace(method, explicit_form="galerkin")
+    return replace(resolved, **kw) if kw else resolved
 
 
 def galerkin_discretization(disc: Discretization) -> Discretization:

@@ -324,7 +324,8 @@ def local_dynamics(scene: Scene, method: MLPG, disc: Discretization | None = Non
         Galerkin form takes the enrichment.
     """
     refuse_grading(scene, "explicit MLPG")
-    method = resolve_form(method.for_scene(scene))  # "auto": the Galerkin form, with a warning
+    # "auto": the Galerkin form, its trial functions (before for_scene's enrichment), a warning
+    method = resolve_form(method, cracked=bool(scene.cracks), trial=disc is None).for_scene(scene)
     if method.enrichment != "none" and method.explicit_form == "petrov_galerkin":
         raise ValueError(f"method.enrichment={method.enrichment!r}: explicit MLPG1 "
                          "(explicit_form='petrov_galerkin') runs without tip enrichment only "
@@ -391,8 +392,7 @@ def _int32(K: csr_array) -> csr_array:
     (the product bounds the step)."""
     if K.nnz >= 2**31 - 1 or K.indices.dtype == np.int32:
         return K
-    K = csr_array((K.data, K.indices.astype(np.int32), K.indptr.astype(np.int32)), shape=K.shape)
-    return K
+    return csr_array((K.data, K.indices.astype(np.int32), K.indptr.astype(np.int32)), shape=K.shape)
 
 
 def solution_at(dyn: Dynamics, coeffs: np.ndarray, t: float, info: dict | None = None) -> MeshlessSolution:

@@ -26,6 +26,7 @@ import numpy as np
 
 from .efg import (
     BASES,
+    CRACK_RULES,
     WEIGHTS,
     MeshlessChoices,
     Rosette,
@@ -34,12 +35,13 @@ from .efg import (
     check_positive,
 )
 
-__all__ = ["EXPLICIT_FORMS", "EXPLICIT_WEIGHTS", "MLPG", "MLPG_BC_METHODS", "MLPG_QUADRATURES",
-           "MLPG_SOLVERS"]
+__all__ = ["EXPLICIT_CRACK_RULES", "EXPLICIT_FORMS", "EXPLICIT_WEIGHTS", "MLPG", "MLPG_BC_METHODS",
+           "MLPG_QUADRATURES", "MLPG_SOLVERS"]
 
 MLPG_BC_METHODS = ("penalty", "modified_mls", "collocation")
 EXPLICIT_WEIGHTS = ("auto", "same", *WEIGHTS)  # MLPG.explicit_weight
 EXPLICIT_FORMS = ("auto", "petrov_galerkin", "galerkin")  # MLPG.explicit_form
+EXPLICIT_CRACK_RULES = ("auto", "same", *CRACK_RULES)  # MLPG.explicit_crack_rule
 MLPG_QUADRATURES = ("midpoint", "gauss")
 MLPG_SOLVERS = ("auto", "direct", "gmres", "bicgstab", "amg")
 
@@ -159,6 +161,22 @@ class MLPG(MeshlessChoices):
         ``M^-1 K`` has modes that grow at any step, so explicit MLPG1 blows up after some
         hundreds to thousands of steps (docs/theory.md, "Explicit MLPG"); "petrov_galerkin"
         steps MLPG1 (for study).
+    explicit_crack_rule : {"auto", "same", "visibility", "diffraction", "transparency", "see_through"}
+        Crack rule of the trial functions of explicit runs only; static solves use
+        ``crack_rule``. "auto": with the Galerkin form (``explicit_form`` "galerkin" or
+        "auto") "visibility" becomes "diffraction" (the other rules stay): the visibility
+        rule's jumps along the shadow rays from the nodes through the tip cross the J'
+        domain (Freund's K_I(t), verification ``freund``, k = 2, h = 0.01: 1.38 % with
+        visibility, 0.88 % with diffraction); with MLPG1: ``crack_rule``.
+        "same": ``crack_rule``. A rule name: that rule
+        (:func:`efgkit.explicit.galerkin_form.resolve_form`; docs/theory.md, "Explicit MLPG").
+    explicit_weight_k : "auto", "same" or int > 0
+        Gaussian exponent k of explicit runs only; static solves use ``weight_k``. "auto":
+        with the Galerkin form, k = 1 (MLPG's static default, chosen against the
+        near-singular bending mode of MLPG1's Petrov-Galerkin system, which a symmetric K
+        has not) becomes the seed's k = 2 (Freund, diffraction rule: 0.23 / 0.88 / 0.78 % at
+        h = 0.02 / 0.01 / 0.005 against 2.95 / 3.88 / 0.77 % with k = 1); other values stay; with
+        MLPG1: ``weight_k``. "same": ``weight_k``. An integer: that k.
 
     Examples
     --------
@@ -206,6 +224,8 @@ class MLPG(MeshlessChoices):
     crack_nodes: bool = True
     explicit_weight: str = "auto"
     explicit_form: str = "auto"
+    explicit_crack_rule: str = "auto"
+    explicit_weight_k: int | str = "auto"
 
     kind = "mlpg"
 
@@ -234,7 +254,31 @@ class MLPG(MeshlessChoices):
         check_choice("solver", self.solver, MLPG_SOLVERS)
         check_choice("explicit_weight", self.explicit_weight, EXPLICIT_WEIGHTS)
         check_choice("explicit_form", self.explicit_form, EXPLICIT_FORMS)
+        self._check_explicit_trial()
         self.check_cracks()
+
+    def _check_explicit_trial(self) -> None:
+        """Check ``explicit_crack_rule`` and ``explicit_weight_k`` (the trial functions of
+        explicit runs, :func:`efgkit.explicit.galerkin_form.resolve_form`)."""
+        rule, k = self.explicit_crack_rule, self.explicit_weight_k
+        if rule not in EXPLICIT_CRACK_RULES:
+            raise ValueError(f"explicit_crack_rule must be one of {EXPLICIT_CRACK_RULES}, got "
+                             f"{rule!r}: give 'auto' (explicit runs of the Galerkin form take "
+                             "'diffraction' in place of 'visibility'), 'same' (crack_rule) or "
+                             "a crack rule")
+        if rule == "transparency" and self.rule_power < 2:
+            raise ValueError(f"explicit_crack_rule='transparency' needs rule_power >= 2 (seed "
+                             f"003 Eq. 32), got rule_power={self.rule_power!r}: give "
+                             "rule_power=2 or another explicit_crack_rule")
+        if isinstance(k, str) and k in ("auto", "same"):
+            return
+        msg = (f"explicit_weight_k must be 'auto', 'same' or an integer > 0, got {k!r}: give "
+               "'auto' (explicit runs of the Galerkin form take the seed's k = 2 in place of "
+               "k = 1), 'same' (weight_k) or the Gaussian exponent, e.g. 2")
+        if isinstance(k, bool) or not isinstance(k, (str, int, np.integer)):
+            raise TypeError(msg)
+        if isinstance(k, str) or k <= 0:
+            raise ValueError(msg)
 
     @property
     def alpha(self) -> float:
