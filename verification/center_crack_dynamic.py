@@ -412,7 +412,7 @@ def markdown(r: dict) -> list[str]:
         ff = {k: "-" if x is None else f"{x:.2f}" for k, x in v["first_felt_us"].items()}
         et = v.get("early_time_error")
         early = "-" if not et else f"{et['J']:.1%}, {et['interaction']:.1%}"
-        rows.append(f"| {key} | {v['dt_us']:.3g} | {v['dt_critical_us']:.3f} | {pk} | "
+        rows.append(f"| {key} | {v['dt_us']:.3g} | {v['dt_critical_us']:.3g} | {pk} | "
                     f"{ff['J']}, {ff['stress_0']} / {v['travel_time_us']:.2f} | "
                     f"{v['path_dependence']:.2%} ({v['path_dependence_lumped']:.2%}) | {early} |")
     return [f"Plate {s['plate_mm'][0]:g} x {s['plate_mm'][1]:g} mm, a0 = {s['a0_mm']:g} mm, step "
