@@ -47,6 +47,15 @@ estimates with ``K`` from ``J'`` (``near_tip_vs_J``): the seed's mean of the two
 nearest the tip (``stress_0``) and the line fitted on ``r = h..4h`` and extrapolated to the
 tip (``stress_0_fit``, :mod:`efgkit.explicit.near_tip`).
 
+Full mode also runs what users get by default at the seed's spacing (``efg_default``,
+:data:`DEFAULT_ROWS`): ``EFG(spacing=1 mm)`` with every other setting at its default (its own
+105 x 41 grid, the automatic tip zones h/2 within 6 h and h/4 within 3 h, PU enrichment of
+the nodes whose support comes within h of a tip, d_max 2, the diagonal enrichment mass of
+``dynamics``, the 4 Jacobi steps of ``DynamicDSIF`` and the default step, 0.9 of the
+critical one), and the same on the seed's 105 x 42 nodes (``efg_default_seed_grid``: user
+coordinates, so no zones); the same J' radii; and one factor off the defaults, the
+abs-row-sum enrichment mass (``efg_default_abs_row_sum``), which sets the critical step.
+
 Full mode also runs the slanted crack of seed 002 Sect. 4.2 (:func:`run_slanted`; mixed
 mode, E = 75.6 GPa, nu = 0.286, dt = 0.1 us, 20 us): the path dependence of J'_1 and J'_2
 (seed: 0.6 % and 3.1 %) and the K_I, K_II histories of every estimate, among them
@@ -92,12 +101,23 @@ def grid(nx: int, ny: int) -> np.ndarray:
 METHODS = {"efg": lambda nx, ny: EFG(spacing=2 * HALF_W / (nx - 1), coordinates=grid(nx, ny),
                                      d_max=2.5, zones=(), enrichment="none"),
            "efg_pu": lambda nx, ny: EFG(spacing=2 * HALF_W / (nx - 1), coordinates=grid(nx, ny),
-                                        d_max=2.5, zones=(), enrichment="pu")}
-ENRICHMENT_MASS = {"efg_pu": "abs_row_sum"}
+                                        d_max=2.5, zones=(), enrichment="pu"),
+           # what users get: EFG(spacing=h) alone (its own grid, the automatic tip zones and
+           # enrichment, d_max 2), and the same on the seed's nodes (coordinates: no zones)
+           "efg_default": lambda nx, ny: EFG(spacing=2 * HALF_W / (nx - 1)),
+           "efg_default_seed_grid": lambda nx, ny: EFG(spacing=2 * HALF_W / (nx - 1),
+                                                       coordinates=grid(nx, ny)),
+           # one factor off the defaults: the enrichment mass (the critical step)
+           "efg_default_abs_row_sum": lambda nx, ny: EFG(spacing=2 * HALF_W / (nx - 1))}
+ENRICHMENT_MASS = {"efg_pu": "abs_row_sum", "efg_default_abs_row_sum": "abs_row_sum"}
 # Jacobi steps of the acceleration recovery (DynamicDSIF.mass_iterations): with the
 # abs-row-sum mass the enrichment unknowns take them too; 16 (4 in mode I: 1.31 %)
 MASS_ITERATIONS = {"efg_pu": 16}
-SEED_GRID_ONLY = ("efg_pu",)  # full mode: on the seed's 105 x 42 nodes only
+# every other setting at its default too: dynamics() enrichment mass, DynamicDSIF()
+# mass_iterations, Stepping() step (safety x the critical step)
+DEFAULT_ROWS = ("efg_default", "efg_default_seed_grid")
+STEP_RULE = (*DEFAULT_ROWS, "efg_default_abs_row_sum")  # dt: 0.9 of the critical step
+SEED_GRID_ONLY = ("efg_pu", *STEP_RULE)  # full mode: at the seed's 1 mm spacing only
 
 
 def scene(case: str, duration: float) -> Scene:
@@ -117,14 +137,18 @@ def freund_k(t: np.ndarray, mat: Elastic) -> np.ndarray:
 
 def run(case: str, method: str, nx: int, ny: int, dt: float, duration: float,
         every: float, radii=RADII) -> dict:
-    """One run; ``radii`` of the J' discs (mm), the path dependence against the middle one."""
+    """One run; ``radii`` of the J' discs (mm), the path dependence against the middle one;
+    ``dt`` None: the default step rule (``Stepping``); :data:`DEFAULT_ROWS`: the defaults of
+    ``dynamics`` and ``DynamicDSIF`` (no keyword given)."""
     sc = scene(case, duration)
     m = METHODS[method](nx, ny)
     t0 = time.perf_counter()
-    dyn = dynamics(sc, m, enrichment_mass=ENRICHMENT_MASS.get(method, "diagonal"))
+    default = method in DEFAULT_ROWS
+    dyn = dynamics(sc, m) if default else dynamics(
+        sc, m, enrichment_mass=ENRICHMENT_MASS.get(method, "diagonal"))
     dtc, lam = stable_step(dyn)
-    hook = DynamicDSIF(radii=radii, domains=True,  # inertia with the recovered acceleration
-                       mass_iterations=MASS_ITERATIONS.get(method, 4))
+    hook = DynamicDSIF(radii=radii, domains=True) if default else DynamicDSIF(  # inertia with
+        radii=radii, domains=True, mass_iterations=MASS_ITERATIONS.get(method, 4))  # recovered a
     lumped, lumped_J = DynamicDSIF(radii=radii, domains=True, mass_iterations=0), []
 
     def both(dyn, u, v, a, t):  # the lumped-mass acceleration on the same states, J' only
@@ -138,8 +162,8 @@ def run(case: str, method: str, nx: int, ny: int, dt: float, duration: float,
     norm = LOAD * math.sqrt(math.pi * A0)
     comp = 0 if case == "mode_I" else 1
     s = sol.history["sifs"]
-    out = {"t_us": t / US, "dt_critical_us": dtc / US, "dt_us": dt / US, "n_dofs": dyn.n_dofs,
-           "mass_iterations": hook.mass_iterations,
+    out = {"t_us": t / US, "dt_critical_us": dtc / US, "dt_us": sol.info["dt"] / US,
+           "n_dofs": dyn.n_dofs, "n_nodes": dyn.disc.nodes.n, "mass_iterations": hook.mass_iterations,
            "steps": sol.info["steps"], "seconds": time.perf_counter() - t0, "K": {}, "peaks": {}}
     for key in ESTIMATES:  # mean of the two tips (equal by symmetry), normalised
         k = np.abs(s[key][:, :, comp]).mean(axis=1) / norm
@@ -331,7 +355,8 @@ def main(quick: bool = False, out_dir=None) -> dict:
             for gname, (nx, ny, dt) in grids.items():
                 if method in SEED_GRID_ONLY and gname != "105x42":
                     continue
-                r = run(case, method, nx, ny, dt, duration, every, radii)
+                r = run(case, method, nx, ny, None if method in STEP_RULE else dt,
+                        duration, every, radii)
                 key = f"{case}/{method}/{gname}"
                 m["runs"][key] = r
                 m["path_dependence"][f"{key}/J1"] = r["path_dependence"]
@@ -349,8 +374,9 @@ def main(quick: bool = False, out_dir=None) -> dict:
     finest = list(grids)[-1]
     for key, v in m["path_dependence"].items():
         # plain EFG: the finest grid (seed's grid: 2.07 %, 1.98 %); PU: the seed's grid
-        # (measured 0.89 % and 0.69 %)
-        if finest in key or quick or "/efg_pu/" in key:
+        # (measured 0.89 % and 0.69 %); the defaults at 1 mm (0.22 % and 0.18 %; on the
+        # seed's nodes 0.63 % and 0.50 %; with the abs-row-sum mass 0.04 % and 0.03 %)
+        if finest in key or quick or "/efg_pu/" in key or "/efg_default" in key:
             # quick: 2 mm spacing, radii 4-8 mm; measured 2.0 % (lumped acceleration: 4.8 %)
             rep.check(f"{key}: path dependence of J' over the radii", v, "<=",
                       0.06 if quick else TARGET)
@@ -390,7 +416,7 @@ def markdown(r: dict) -> list[str]:
         ff = {k: "-" if x is None else f"{x:.2f}" for k, x in v["first_felt_us"].items()}
         et = v.get("early_time_error")
         early = "-" if not et else f"{et['J']:.1%}, {et['interaction']:.1%}"
-        rows.append(f"| {key} | {v['dt_us']:g} | {v['dt_critical_us']:.3f} | {pk} | "
+        rows.append(f"| {key} | {v['dt_us']:.3g} | {v['dt_critical_us']:.3g} | {pk} | "
                     f"{ff['J']}, {ff['stress_0']} / {v['travel_time_us']:.2f} | "
                     f"{v['path_dependence']:.2%} ({v['path_dependence_lumped']:.2%}) | {early} |")
     return [f"Plate {s['plate_mm'][0]:g} x {s['plate_mm'][1]:g} mm, a0 = {s['a0_mm']:g} mm, step "
@@ -398,7 +424,14 @@ def markdown(r: dict) -> list[str]:
             f"{s['d_max']}, no zones; rows efg: no enrichment, rows efg_pu: PU crack-tip "
             "enrichment (nodes within 2 spacings of a tip) with the abs-row-sum enrichment mass "
             "(the plain critical step) and 16 Jacobi steps of the acceleration recovery (4 for "
-            f"efg); J' discs R = {s['radii_mm']} mm; histories "
+            "efg); rows efg_default: EFG(spacing=1 mm) with every other setting at its "
+            "default (its own 105 x 41 grid with the automatic tip zones, h/2 within 6 h and h/4 "
+            "within 3 h; PU enrichment of the nodes whose support comes within h of a tip, d_max "
+            "2, the diagonal enrichment mass, 4 Jacobi steps, dt = 0.9 of the critical step), "
+            "rows efg_default_seed_grid: the same on the seed's 105 x 42 nodes (user "
+            "coordinates: no zones), rows efg_default_abs_row_sum: efg_default with the "
+            "abs-row-sum enrichment mass (one factor off the defaults); J' discs R = "
+            f"{s['radii_mm']} mm; histories "
             f"to {s['duration_us']:g} us. First felt: the first output where the normalised K "
             "exceeds 0.01 (the meshless supports and the explicit step let a small precursor "
             "run ahead of the front, so it comes before the travel time, 20 mm / c_d in mode I "
