@@ -54,7 +54,7 @@ from scipy.sparse import csr_array, vstack
 
 from ..fracture.decomposition import decomposed_tip_result, mirror_points
 from ..fracture.dynamic_tip import dynamic_tip_result
-from ..fracture.face_fit import FIT_WINDOW, N_FIT, fit_face_displacement, near_tip_energy
+from ..fracture.face_fit import FIT_WINDOW, N_FACE, N_FIT, fit_face_displacement, near_tip_energy
 from ..fracture.integrals import FaceLoad
 from ..fracture.qfunctions import QFunction
 from ..fracture.sif import face_loads, tip_limits, tip_radii, tip_result
@@ -117,7 +117,7 @@ class TipOperators:
             crack = next(c for c in scene.cracks if c.name == tip.crack)
             unit = scene.with_cracks([replace(c, pressure=1.0) if c is crack else c
                                       for c in scene.cracks])
-            f0 = face_loads(unit, tip, max(rs), gradient, h)
+            f0 = face_loads(unit, tip, max(rs), gradient, h, n=N_FACE)
             f0 = replace(f0, traction=crack.pressure * f0.traction)
             self.tips.append(dict(tip=tip, h=h, rs=rs, x=x[sel], w=w[sel],
                                   op=csr_array(vstack(ops, format="csr")),
