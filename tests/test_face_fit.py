@@ -125,3 +125,46 @@ def test_static_mixed_mode_j2():
     assert np.ptp(J2) / abs(J2[2]) < 0.03
     raw = _j2(sol, tip, radii, fit=False) / exact
     assert np.min(np.abs(raw - 1)) > 0.5  # the failure the fit removes
+
+
+def test_williams_field_with_t_stress_exact():
+    # K_I, K_II and a T-stress (u = Williams + uniform sigma_11 = T): the face u_1 is
+    # c_0 +- c_1 r^1/2 + c_2 r exactly, so the fitted face W is the exact one and J'_2 =
+    # -2 K_I K_II / E' (seed 002 Eq. 33 at V = 0) to quadrature accuracy
+    from efgkit.problem.crack import Tip
+    from efgkit.problem.exact.williams import williams_displacement, williams_gradient
+
+    KI, KII, T, R, r0 = 1.0, 0.5, 0.8, 0.8, 0.1
+    e0 = np.array([[T * (1 - MAT.nu**2), 0.0], [0.0, -T * MAT.nu * (1 + MAT.nu)]]) / MAT.E
+
+    def grad(r, th):
+        return williams_gradient(r, th, KI, KII, MAT.mu, MAT.kappa) + e0
+
+    def disp(r, th):
+        x = np.column_stack([r * np.cos(th), r * np.sin(th)])
+        return williams_displacement(r, th, KI, KII, MAT.mu, MAT.kappa) + x @ e0.T
+
+    tip = Tip(np.zeros(2), 0.0, "c", 1)
+    t, tw = np.polynomial.legendre.leggauss(24)
+    s = (t + 1) / 2 * np.sqrt(R)
+    rr, th = [a.ravel() for a in np.meshgrid(s**2, np.pi * t, indexing="ij")]
+    w = np.outer(s**3 * np.sqrt(R) * tw, np.pi * tw).ravel()
+    x = np.column_stack([rr * np.cos(th), rr * np.sin(th)])
+    g = grad(rr, th)
+    stress = (np.column_stack([g[:, 0, 0], g[:, 1, 1], g[:, 0, 1] + g[:, 1, 0]]) @ MAT.D.T)
+    gf, gwf = np.polynomial.legendre.leggauss(N_FACE)
+    sf = (gf + 1) / 2 * np.sqrt(R)
+    rf, wf = sf**2, gwf / 2 * np.sqrt(R) * 2 * sf
+    xf = np.column_stack([np.tile(-rf, 2), np.zeros(2 * N_FACE)])
+    side = np.repeat([1.0, -1.0], N_FACE)
+    faces = FaceLoad(xf, np.tile(wf, 2), np.zeros((2 * N_FACE, 2)), grad(np.tile(rf, 2), side * np.pi),
+                     side)
+    rs = np.linspace(r0, 4 * r0, N_FIT)
+    fit = fit_face_displacement(rs, disp(rs, np.full(N_FIT, np.pi))[:, 0],
+                                disp(rs, np.full(N_FIT, -np.pi))[:, 0], r0)
+    faces = replace(faces, energy=near_tip_energy(fit, faces, tip, MAT))
+    z = np.zeros((len(x), 2))
+    # one disc R (the polar Gauss rule is exact for the domain term only up to its own edge)
+    res = dynamic_tip_result(tip, x, w, stress, g, z, z, 1.0, (R, R, R), MAT, faces=faces)
+    for d in res.domains:
+        assert d.J2 == pytest.approx(-2 * KI * KII / MAT.E_prime, rel=1e-10)

@@ -52,7 +52,10 @@ mode, E = 75.6 GPa, nu = 0.286, dt = 0.1 us, 20 us): the path dependence of J'_1
 (seed: 0.6 % and 3.1 %) and the K_I, K_II histories of every estimate, among them
 ``J_decomposed`` (K_I, K_II from J'_1 of the symmetric and antisymmetric parts of the field,
 :mod:`efgkit.fracture.decomposition`, which needs no J'_2), on the seed's 45 x 33 nodes and
-on 89 x 65 (0.5 mm, dt = 0.05 us).
+on 89 x 65 (0.5 mm, dt = 0.05 us). Its J' discs are R = 6-12 mm with the near-tip face W of
+J'_2 from the fitted face displacement and the plateau q (:mod:`efgkit.fracture.face_fit`,
+``DynamicDSIF(q="plateau_fit")``); the raw face W, no face term and the seed's radii
+(2-4 mm, Wendland q) run beside them on the same states (:data:`SLANT_HOOKS`).
 """
 
 from __future__ import annotations

@@ -20,6 +20,9 @@ crack, side by side (seed 002 Eqs. 31-38, seed 000 Eqs. 5.2-5.8):
 * ``"spread"``: ``(spread_J, spread)``, the domain spreads of the ``J'`` and the
   interaction ``K`` (:class:`~efgkit.fracture.dynamic_tip.DynamicTipResult`).
 
+The face ``W`` of ``J'_2`` within 1.5 spacings of the tip comes from the fitted face
+displacement (``face_fit``, :mod:`efgkit.fracture.face_fit`); ``q="plateau_fit"`` goes with it.
+
 With ``decomposition=True`` also ``"J_decomposed"``: ``K_I``, ``K_II`` from ``J'_1`` of the
 symmetric and antisymmetric parts of the field about the crack line
 (:mod:`efgkit.fracture.decomposition`), which needs no ``J'_2`` and its face term.
@@ -303,12 +306,10 @@ class DynamicDSIF:
         and 15 local spacings (:func:`~efgkit.fracture.sif.default_radii`).
     q : str or callable
         The q-function (:func:`~efgkit.fracture.dynamic_tip.dynamic_tip_result`), or
-        ``"plateau_fit"`` (:data:`PLATEAU_FIT`): the ``"plateau"`` kind with ``q = 1`` within
-        ``r_in = min(FIT_WINDOW[0] h, r_out / 2)`` of the tip (``h`` the tip's spacing), so
-        that the unresolved near-tip field stays out of the domain term and the face term
-        there is the fitted one (``face_fit``; :mod:`efgkit.fracture.face_fit`). Measured
-        on the inclined Griffith crack without enrichment, domains of 4 to 8 spacings:
-        path dependence of ``J'_2`` 0.2-0.7 % (``"wendland_c2"``: 0.4-7 %), docs/theory.md.
+        ``"plateau_fit"`` (:data:`PLATEAU_FIT`): ``"plateau"`` with ``q = 1`` within ``r_in =
+        min(FIT_WINDOW[0] h, r_out / 2)`` (``h`` the tip's spacing), where ``face_fit`` gives
+        the face ``W``: path dependence of ``J'_2`` 0.5-0.9 % on 4-8 spacings without
+        enrichment (``"wendland_c2"``: 0.4-7 %; docs/theory.md).
     domains : bool
         Also record ``"J_prime_domains"`` ``(n_tips, n_radii, 2)``, ``J'_1``, ``J'_2`` of every
         domain (path independence); default False.
@@ -327,12 +328,10 @@ class DynamicDSIF:
         :mod:`efgkit.fracture.decomposition`), with ``domains`` also
         ``"J_decomposed_domains"``; straight cracks, domains clear of the boundary. Default False.
     face_fit : bool
-        ``W`` of the ``J'_2`` crack-face term within ``FIT_WINDOW[0]`` spacings of the tip
-        from the face displacement fitted to its near-tip expansion on ``FIT_WINDOW``
-        spacings (:mod:`efgkit.fracture.face_fit`; default True). The raw point values
-        (False) leave an error of order ``K^2 / E'`` in ``J'_2`` on grids that do not
-        resolve the singularity, which refinement does not remove. Tips without room for
-        the window (free distance below ``FIT_WINDOW[0] + 2`` spacings) keep the raw values.
+        Face ``W`` of ``J'_2`` within ``FIT_WINDOW[0]`` spacings of the tip from the fitted
+        face displacement (:mod:`efgkit.fracture.face_fit`; default True); the raw values
+        (False) leave an ``O(K^2 / E')`` error that refinement does not remove. A tip with
+        a free distance below ``FIT_WINDOW[0] + 2`` spacings keeps the raw values.
 
     Calling it as ``hook(dyn, u, v, a, t)`` returns ``{estimate: ndarray (n_tips, 2)}``
     for :data:`DYNAMIC_ESTIMATES`; the operators are built at the first call for a run.

@@ -4,13 +4,13 @@ The crack-face term of ``J'_2`` (seed 002 Eq. 31, :mod:`efgkit.fracture.dynamic`
 strain energy density on both faces, ``-int [W] q ds`` with ``[W] = W(theta = +pi) -
 W(theta = -pi)``. Near the tip each face's ``W`` grows like ``1/r`` (the ``K_II`` stress
 ``sigma_11 = -+2 K_II / sqrt(2 pi r)`` on the faces); the ``1/r`` parts cancel between the
-faces and ``[W] = -4 K_II T / (E' sqrt(2 pi r)) + O(1)`` is integrable (``T`` the T-stress).
+faces and ``[W] = -4 K_II T / (E' sqrt(2 pi r)) + O(r^{1/2})`` is integrable (``T`` the T-stress).
 A discretisation that does not represent the singularity (EFG without enrichment) has
 bounded stresses at the tip that differ between the faces by ``O(K / sqrt(h))`` within a
 few spacings ``h``: ``[W] ~ K^2 / h`` over a length ``~h``, an ``O(K^2 / E')`` error of
-``J'_2`` that does not shrink as the grid is refined (measured: ``J'_2`` at 0.27, 0.30 and
-0.21 of its exact value on the inclined Griffith crack at 2 to 8 spacings, and at 0.06 to 0.14
-on the slanted crack of seed 002 Sect. 4.2, docs/verification.md).
+``J'_2`` that does not shrink as the grid is refined (measured: ``J'_2`` at 0.1-0.3 of its
+exact value on the inclined Griffith crack at 2 to 8 spacings, and at 0.06 and 0.14 on the
+slanted crack of seed 002 Sect. 4.2 on 45 x 33 and 89 x 65 nodes, docs/verification.md).
 
 Here the faces within ``r0`` of the tip take ``W`` from the asymptotic form of the face
 displacement, fitted where the discretisation resolves it (Eischen, Eng. Fract. Mech. 26,
@@ -18,17 +18,24 @@ displacement, fitted where the discretisation resolves it (Eischen, Eng. Fract. 
 On the faces ``theta = +-pi`` the Williams expansion gives, in the tip frame
 (``x_1 = -r`` on the faces)::
 
-    u_1(r, +-pi) = c_0 +- c_1 r^{1/2} + c_2 r + c_3^{+-} r^{3/2} + ...
+    u_1(r, +-pi) = c_0 + c_2 r +- (c_1 r^{1/2} + c_3 r^{3/2}) + ...
 
-(the ``r^{1/2}`` term is the ``K_II`` sliding, antisymmetric; the ``r`` term the T-stress and
-a rigid translation along the faces, the same on both; a rotation gives no ``u_1`` on the
-crack line). The fit on ``r`` in ``[r0, r1]`` (least squares, both faces together) gives
+(on the faces ``u_1`` of the half-integer terms is their mode-II part, opposite on the two
+faces; that of the integer terms their mode-I part, the same on both: ``r`` is the
+T-stress, ``c_0`` a translation; a rotation gives no ``u_1`` on the crack line). The fit on
+``r`` in ``[r0, r1]`` (least squares, both faces together, ``FIT_WINDOW`` spacings) gives
 ``epsilon_11 = du_1/dx_1 = -du_1/dr`` on each face, and with the applied traction
-(``sigma_22``, ``sigma_12`` on the face) the stress and ``W = sigma : C : sigma / 2``.
-The ``1/r`` parts of ``W`` cancel exactly between the faces (the same ``c_1^2``).
-Measured on the inclined Griffith crack (45 degrees, T = 0, +-1, no enrichment, domains of
-2 to 4 spacings, window 2-6 spacings): ``J'_2`` within 0.90-1.09 of ``-2 K_I K_II / E'``
-where the raw face term gave 0.21-0.30 (tests/test_face_fit.py).
+(``sigma_22``, ``sigma_12`` on the face) the stress and ``W = sigma : C : sigma / 2``. The
+``1/r`` parts of ``W`` cancel exactly between the faces (the same ``c_1^2``); on free faces
+``[W] = 2 E' (c_1 / (2 sqrt r) + 3 c_3 sqrt(r) / 2) c_2``. (A free ``r^{3/2}`` coefficient
+per face adds a spurious constant to ``[W]``: +10 % in ``J'_2``.)
+
+The domain term goes with it: :data:`efgkit.explicit.dsif.PLATEAU_FIT`, ``q = 1`` within
+``r0``, keeps the unresolved near-tip field out of it too. Measured on the inclined
+Griffith crack (45 degrees, a uniform stress ``T0 = 0, +-1`` along the crack, EFG without
+enrichment, ``h = 0.1 a`` and ``0.05 a``, discs of 4-8 spacings): ``J'_2`` within 0.97-1.01
+of ``-2 K_I K_II / E'`` and path independent to 0.5-0.9 %, where the raw face ``W`` gives
+0.1-0.3 of it (tests/test_face_fit.py, docs/theory.md).
 
 Only ``W`` is taken from the fit: the traction term ``-t_i u_i,k`` and the kinetic energy
 on the faces keep their point values (bounded integrands, errors that vanish with ``h``).
