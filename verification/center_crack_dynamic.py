@@ -488,7 +488,7 @@ def _slanted_lines(m: dict) -> list[str]:
             f"a0)): {at}. J'_2 holds W on both crack faces; without enrichment the discrete "
             "stresses within about two spacings of the tip differ between the faces by "
             "O(K / sqrt(h)), an O(K^2 / E') error in the face term that refinement does not "
-            "remove (J'_2 came out at 0.06-0.14 of -2 K_I K_II / E' with the raw face W). "
+            "remove (the raw face W rows below). "
             "J'_2 here takes the face W within 1.5 spacings of the tip from the face "
             "displacement fitted to its near-tip expansion on 1.5-6 spacings, and q = 1 "
             "there (efgkit.fracture.face_fit, DynamicDSIF(q=\"plateau_fit\"), docs/theory.md). "

@@ -9,8 +9,8 @@ A discretisation that does not represent the singularity (EFG without enrichment
 bounded stresses at the tip that differ between the faces by ``O(K / sqrt(h))`` within a
 few spacings ``h``: ``[W] ~ K^2 / h`` over a length ``~h``, an ``O(K^2 / E')`` error of
 ``J'_2`` that does not shrink as the grid is refined (measured: ``J'_2`` at 0.1-0.3 of its
-exact value on the inclined Griffith crack at 2 to 8 spacings, and at 0.06 and 0.14 on the
-slanted crack of seed 002 Sect. 4.2 on 45 x 33 and 89 x 65 nodes, docs/verification.md).
+exact value on the inclined Griffith crack at 2 to 8 spacings, and at 0.06-0.2 and 0.08-0.14
+on the slanted crack of seed 002 Sect. 4.2 on 45 x 33 and 89 x 65 nodes, docs/verification.md).
 
 Here the faces within ``r0`` of the tip take ``W`` from the asymptotic form of the face
 displacement, fitted where the discretisation resolves it (Eischen, Eng. Fract. Mech. 26,
