@@ -39,7 +39,9 @@ def test_keys_map_onto_dynamics_and_the_hook():
                         "decomposition": True})
     assert s.enrichment_mass == "abs_row_sum"
     assert s.dsif.mass_iterations == 16 and s.dsif.decomposition is True
-    assert set(DSIF_KEYS) == {"enrichment_mass", "mass_iterations", "decomposition"}
+    assert set(DSIF_KEYS) == {"enrichment_mass", "mass_iterations", "decomposition", "q", "face_fit"}
+    s = dsif_from_dict({"q": "plateau_fit", "face_fit": False})
+    assert (s.dsif.q, s.dsif.face_fit) == ("plateau_fit", False)
 
 
 def test_defaults_are_those_of_python():
@@ -48,8 +50,8 @@ def test_defaults_are_those_of_python():
     for s in (dsif_from_dict({}), DSIFSettings()):
         assert s.enrichment_mass == "diagonal"
         assert (s.dsif.mass_iterations, s.dsif.decomposition) == (d.mass_iterations, d.decomposition)
-        assert (s.dsif.radii, s.dsif.q, s.dsif.inertia, s.dsif.face_terms, s.dsif.domains) == \
-            (d.radii, d.q, d.inertia, d.face_terms, d.domains)
+        assert (s.dsif.radii, s.dsif.q, s.dsif.inertia, s.dsif.face_terms, s.dsif.domains,
+                s.dsif.face_fit) == (d.radii, d.q, d.inertia, d.face_terms, d.domains, d.face_fit)
 
 
 @pytest.mark.parametrize("table, err, match", [
@@ -66,6 +68,8 @@ def test_defaults_are_those_of_python():
      r"dsif.mass_iterations: mass_iterations must be an integer in 0..100"),
     ({"mass_iterations": -1}, ValueError, r"in 0..100 .*got -1"),
     ({"decomposition": 1}, TypeError, "dsif.decomposition must be true or false, got 1"),
+    ({"face_fit": "yes"}, TypeError, "dsif.face_fit must be true or false, got 'yes'"),
+    ({"q": "power"}, ValueError, r"dsif.q = 'power'; expected one of .*'plateau_fit'"),
     ([1, 2], TypeError, r"dsif must be a table \[dsif\]"),
 ])
 def test_error_messages(table, err, match):

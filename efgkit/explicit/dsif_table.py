@@ -8,7 +8,12 @@ Keys (docs/scenes.md, "``[dsif]``"):
 * ``mass_iterations``: Jacobi steps of the acceleration recovery of the inertia term of
   ``J'`` (:class:`~efgkit.explicit.dsif.DynamicDSIF`); default 4;
 * ``decomposition``: also the K_I, K_II of the decomposition method
-  (:class:`~efgkit.explicit.dsif.DynamicDSIF`); default false.
+  (:class:`~efgkit.explicit.dsif.DynamicDSIF`); default false;
+* ``q``: the q-function of the ``J'`` domains, one of :data:`Q_KINDS` (``"plateau_fit"``
+  goes with ``face_fit``, :class:`~efgkit.explicit.dsif.DynamicDSIF`); default
+  ``"wendland_c2"``;
+* ``face_fit``: the near-tip face ``W`` of ``J'_2`` from the fitted face displacement
+  (:mod:`efgkit.fracture.face_fit`); default true.
 
 The settings docs/theory.md recommends for ``J'`` path independence with PU enrichment on
 coarse grids are ``enrichment_mass = "abs_row_sum"`` and ``mass_iterations = 16``. A
@@ -31,13 +36,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..fracture.qfunctions import KINDS
 from ..system.mass import ENRICHMENT_MASSES
 from ..tables import check_known_keys
-from .dsif import DynamicDSIF, dynamic_dsif
+from .dsif import PLATEAU_FIT, DynamicDSIF, dynamic_dsif
 
-__all__ = ["DSIF_KEYS", "DSIFSettings", "dsif_from_dict", "load_dsif"]
+__all__ = ["DSIF_KEYS", "Q_KINDS", "DSIFSettings", "dsif_from_dict", "load_dsif"]
 
-DSIF_KEYS = ("enrichment_mass", "mass_iterations", "decomposition")
+DSIF_KEYS = ("enrichment_mass", "mass_iterations", "decomposition", "q", "face_fit")
+Q_KINDS = (*(k for k in KINDS if k != "power"), PLATEAU_FIT)  # "power" needs its exponent
 
 
 @dataclass(frozen=True)
@@ -88,8 +95,14 @@ def dsif_from_dict(d, path: str = "dsif") -> DSIFSettings:
     dec = d.get("decomposition", False)
     if not isinstance(dec, bool):
         raise TypeError(f"{path}.decomposition must be true or false, got {dec!r}")
+    fit = d.get("face_fit", True)
+    if not isinstance(fit, bool):
+        raise TypeError(f"{path}.face_fit must be true or false, got {fit!r}")
+    q = d.get("q", DynamicDSIF.q)
+    if q not in Q_KINDS:
+        raise ValueError(f"{path}.q = {q!r}; expected one of {', '.join(map(repr, Q_KINDS))}")
     try:
-        hook = DynamicDSIF(mass_iterations=int(k), decomposition=dec)
+        hook = DynamicDSIF(mass_iterations=int(k), decomposition=dec, q=q, face_fit=fit)
     except (TypeError, ValueError) as err:
         raise type(err)(f"{path}.mass_iterations: {err}") from err
     return DSIFSettings(em, hook)

@@ -243,7 +243,8 @@ def dynamic_integrands(x, w, stress, grad_u, velocity, acceleration, rho, tip: T
 
 
 def _face_terms(faces: FaceLoad, face_velocity, it: DynamicIntegrands, q: QFunction) -> np.ndarray:
-    """The face terms ``int [(W (+ T)) m_k - t_i u_i,k] q ds`` of J'_1, J'_2, ndarray (2,)."""
+    """The face terms ``int [(W (+ T)) m_k - t_i u_i,k] q ds`` of J'_1, J'_2, ndarray (2,);
+    ``W`` from ``faces.energy`` where it is given (:mod:`efgkit.fracture.face_fit`)."""
     tip, material = it.static.tip, it.static.material
     d = (faces.x - tip.x) @ tip.rotation.T
     inside = np.hypot(d[:, 0], d[:, 1]) < q.r_out
@@ -254,6 +255,9 @@ def _face_terms(faces: FaceLoad, face_velocity, it: DynamicIntegrands, q: QFunct
     g = rotate_gradient(faces.grad_u[inside], ang)
     eps = strain_from_gradient(g)
     W = 0.5 * np.einsum("mi,mi->m", eps @ material.D.T, eps)
+    if faces.energy is not None:  # the near-tip W of efgkit.fracture.face_fit where given
+        e = faces.energy[inside]
+        W = np.where(np.isnan(e), W, e)
     if it.kinetic == "W+T":
         if face_velocity is None:
             raise ValueError("the W + T form (velocity gradient given) with loaded or sampled faces "

@@ -54,6 +54,11 @@ class FaceLoad:
     side : ndarray (m,) of +1 / -1
         +1 for the upper face (``theta = +pi``, left of the crack seen from
         behind the tip), -1 for the lower face.
+    energy : ndarray (m,) or None
+        Strain energy density ``W`` to use at the points where it is finite
+        (NaN elsewhere) instead of ``W`` of ``grad_u``: the near-tip face ``W``
+        of the ``J'_2`` face term from :mod:`efgkit.fracture.face_fit`. None: from
+        ``grad_u`` everywhere.
 
     Notes
     -----
@@ -69,6 +74,7 @@ class FaceLoad:
     traction: np.ndarray
     grad_u: np.ndarray
     side: np.ndarray
+    energy: np.ndarray | None = None
 
     def __post_init__(self):
         x = real_array("FaceLoad.x", self.x, (-1, 2))
@@ -82,6 +88,11 @@ class FaceLoad:
                 raise ValueError(f"FaceLoad.{name} must be finite; entry {np.argwhere(~np.isfinite(a))[0]}"
                                  " is not")
             object.__setattr__(self, name, a)
+        if self.energy is not None:
+            e = real_array("FaceLoad.energy", self.energy, (m,))
+            if np.any(np.isinf(e)):
+                raise ValueError("FaceLoad.energy must be finite where given (NaN: W from grad_u)")
+            object.__setattr__(self, "energy", e)
         if not np.all(np.isin(arrays["side"], (-1.0, 1.0))):
             raise ValueError("FaceLoad.side must hold +1 (upper face) or -1 (lower face), got "
                              f"{np.unique(arrays['side']).tolist()}")
