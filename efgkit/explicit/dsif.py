@@ -57,11 +57,10 @@ from scipy.sparse import csr_array, vstack
 
 from ..fracture.decomposition import decomposed_tip_result, mirror_points
 from ..fracture.dynamic_tip import dynamic_tip_result
-from ..fracture.face_fit import FIT_WINDOW, N_FACE, N_FIT, fit_face_displacement, near_tip_energy
+from ..fracture.face_fit import FIT_WINDOW, N_FACE, face_operators, fit_face_displacement, near_tip_energy
 from ..fracture.integrals import FaceLoad
 from ..fracture.qfunctions import QFunction
 from ..fracture.sif import face_loads, tip_limits, tip_radii, tip_result
-from ..problem.crack import FACE_OFFSET
 from ..problem.frames import rotate_vectors
 from ..problem.material import strain_from_gradient
 from ..problem.scene import evaluate_vector
@@ -126,7 +125,7 @@ class TipOperators:
                                   op=csr_array(vstack(ops, format="csr")),
                                   val=csr_array(vstack(vals, format="csr")), rays=rays,
                                   faces=faces, face0=f0, loaded=crack.pressure != 0.0,
-                                  fit=_fit_operators(disc, scene, tip, crack, h)))
+                                  fit=face_operators(disc, scene, tip, crack, h)))
         self.scene = scene
         self.dyn = dyn
         self.recovery = AccelerationRecovery(dyn, [d["tip"].x for d in self.tips],
@@ -262,25 +261,6 @@ class TipOperators:
 def _plateau_fit(h: float) -> Callable:
     """``radius -> QFunction``: the plateau q of :data:`PLATEAU_FIT` for a tip of spacing ``h``."""
     return lambda R: QFunction("plateau", R, r_in=min(FIT_WINDOW[0] * h, 0.5 * R))
-
-
-def _fit_operators(disc, scene, tip, crack, h: float):
-    """``(r (N_FIT,), r0, (upper, lower))``: the radii of the face-displacement fit of a tip
-    (:mod:`efgkit.fracture.face_fit`), its ``r0`` and the value operators ``(2 N_FIT, n_dofs)``
-    (x components, then y) on the upper and lower face; None when the free distance about
-    the tip (:func:`~efgkit.fracture.sif.tip_limits`, and the crack's length) leaves no room
-    for two spacings of window beyond ``r0``."""
-    r0 = FIT_WINDOW[0] * h
-    r1 = min(FIT_WINDOW[1] * h, 0.9 * min(min(tip_limits(scene, tip).values()), crack.length))
-    if r1 < r0 + 2 * h:
-        return None
-    r = np.linspace(r0, r1, N_FIT)
-    x, left = crack.points_along(r, end=tip.end)
-    up = 1.0 if tip.end == 1 else -1.0  # the polyline's left face is the tip's upper face
-    ops = tuple(csr_array(vstack(list(disc.shape_at(x + s * up * FACE_OFFSET * h * left,
-                                                    derivatives=False).u_operators()), format="csr"))
-                for s in (1.0, -1.0))
-    return r, r0, ops
 
 
 def _operators(dyn, radii) -> TipOperators:

@@ -47,14 +47,16 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.sparse import csr_array, vstack
 
-from ..problem.crack import Tip
+from ..problem.crack import FACE_OFFSET, Tip
 from ..problem.frames import rotate_vectors
 from ..problem.material import Elastic
 from .faces import FaceLoad
+from .sif import tip_limits
 
-__all__ = ["FIT_WINDOW", "N_FACE", "N_FIT", "FaceFit", "face_energy", "fit_face_displacement", "fit_operator",
-           "near_tip_energy"]
+__all__ = ["FIT_WINDOW", "N_FACE", "N_FIT", "FaceFit", "face_energy", "face_operators",
+           "fit_face_displacement", "fit_operator", "near_tip_energy"]
 
 FIT_WINDOW = (1.5, 6.0)  # [r0, r1] in local spacings: W from the fit below r0 (measured, module doc)
 N_FIT = 16  # sample points per face in the window
@@ -172,3 +174,22 @@ def near_tip_energy(fit: FaceFit, faces: FaceLoad, tip: Tip, material: Elastic) 
         t = rotate_vectors(faces.traction[near], -tip.angle)
         out[near] = face_energy(fit.strain(r[near], faces.side[near]), t, faces.side[near], material)
     return out
+
+
+def face_operators(disc, scene, tip: Tip, crack, h: float):
+    """``(r (N_FIT,), r0, (upper, lower))``: the radii of the face-displacement fit of a tip,
+    its ``r0`` and the value operators ``(2 N_FIT, n_dofs)`` (x components, then y) of the
+    discretisation ``disc`` on the upper and lower face; None when the free distance about
+    the tip (:func:`~efgkit.fracture.sif.tip_limits`, and the crack's length) leaves no room
+    for two spacings of window beyond ``r0``."""
+    r0 = FIT_WINDOW[0] * h
+    r1 = min(FIT_WINDOW[1] * h, 0.9 * min(min(tip_limits(scene, tip).values()), crack.length))
+    if r1 < r0 + 2 * h:
+        return None
+    r = np.linspace(r0, r1, N_FIT)
+    x, left = crack.points_along(r, end=tip.end)
+    up = 1.0 if tip.end == 1 else -1.0  # the polyline's left face is the tip's upper face
+    ops = tuple(csr_array(vstack(list(disc.shape_at(x + s * up * FACE_OFFSET * h * left,
+                                                    derivatives=False).u_operators()), format="csr"))
+                for s in (1.0, -1.0))
+    return r, r0, ops
