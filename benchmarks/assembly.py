@@ -22,6 +22,7 @@ from __future__ import annotations
 import argparse
 import importlib.util
 import json
+import os
 import platform
 import subprocess
 import sys
@@ -58,18 +59,32 @@ def efg_case(n_dofs: int, d_max: float) -> dict:
 
 
 def previous_kernels(rev: str):
-    """efgkit/system/kernels.py of git revision ``rev`` as a module (None without git)."""
+    """efgkit/system/kernels.py of git revision ``rev`` as a module (None without git); when
+    it has the row kernel (``block_rows``), its ``assemble`` module too, as ``.assemble``."""
+    kernels = load_revision(rev, "kernels", {"from ..timing import": "from efgkit.timing import"})
+    if kernels is not None and hasattr(kernels, "block_rows"):
+        kernels.assemble = load_revision(rev, "assemble", {
+            "from ..approx.shape import": "from efgkit.approx.shape import",
+            "from ..jit import": "from efgkit.jit import",
+            "from .kernels import": f"from {kernels.__name__} import"})
+    return kernels
+
+
+def load_revision(rev: str, name: str, imports: dict):
+    """efgkit/system/``name``.py of git revision ``rev`` as the module ``name_rev``, its
+    relative imports rewritten by ``imports`` (None without git)."""
     try:
-        src = subprocess.run(["git", "-C", str(ROOT), "show", f"{rev}:efgkit/system/kernels.py"],
+        src = subprocess.run(["git", "-C", str(ROOT), "show", f"{rev}:efgkit/system/{name}.py"],
                              capture_output=True, text=True, check=True).stdout
     except (OSError, subprocess.CalledProcessError):
         return None
-    path = Path(tempfile.gettempdir()) / "efgkit_assembly_before" / f"kernels_{rev}.py"
-    src = src.replace("from ..timing import", "from efgkit.timing import")
+    path = Path(tempfile.gettempdir()) / "efgkit_assembly_before" / f"{name}_{rev}.py"
+    for a, b in imports.items():
+        src = src.replace(a, b)
     if not path.exists() or path.read_text() != src:  # keep numba's cache of it
         path.parent.mkdir(exist_ok=True)
         path.write_text(src)
-    spec = importlib.util.spec_from_file_location(f"kernels_{rev}", path)
+    spec = importlib.util.spec_from_file_location(f"{name}_{rev}", path)
     mod = importlib.util.module_from_spec(spec)
     sys.modules[spec.name] = mod  # numba's cache looks the module up by name
     spec.loader.exec_module(mod)
@@ -77,11 +92,17 @@ def previous_kernels(rev: str):
 
 
 def stiffness_before(old, sh, w, D, pattern_only=False):
-    """Symmetric K (or its pattern) by the kernels ``old`` of :func:`previous_kernels`: point
-    lists, column pattern (two passes), blocks J >= I, mirror, BSR to CSR."""
+    """Symmetric K by the kernels ``old`` of :func:`previous_kernels`. With the row kernel:
+    that revision's ``_compiled`` (``pattern_only``: its point lists alone); before it: point
+    lists, column pattern (two passes; ``pattern_only``: up to here), blocks J >= I, mirror,
+    BSR to CSR."""
     import numba
     from scipy.sparse import bsr_array, csr_array
 
+    if hasattr(old, "block_rows"):
+        if pattern_only:
+            return old.assemble._lists(sh, numba.get_num_threads())
+        return old.assemble._compiled(sh, sh, w, np.ascontiguousarray(D, float))
     threads, nb = numba.get_num_threads(), sh.neighbours
     t_ptr, t_point, t_slot = old.transpose_padded(nb.idx, nb.mask, sh.n_functions)
     indptr, cols = old.pattern(t_ptr, t_point, nb.idx, nb.mask, sh.n_functions, threads)
@@ -173,6 +194,8 @@ def measure(n_dofs: int, rounds: int, old=None, d_maxes=(2.5, 2.0)) -> dict:
 
 
 def markdown(res: dict, cmd: str) -> str:
+    if res.get("before_kind") == "rows":
+        return markdown_rows(res, cmd)
     lines = ["<!-- begin:assembly -->", "## Stiffness assembly against scikit-fem P2, interleaved "
              "(`benchmarks/assembly.py`)", "",
              f"Command: `{cmd}` ({res['machine']}, {res['date']}, {res['threads']} numba "
@@ -189,9 +212,6 @@ def markdown(res: dict, cmd: str) -> str:
              "(of which pattern) | **EFG / P2 before** | now s (of which point lists) | "
              "**EFG / P2 now** | speed-up | K difference |",
              "|---|---|---|---|---|---|---|---|---|---|---|"]
-
-    def q(v):
-        return f"**{v['median']:.2f}** [{v['q25']:.2f}, {v['q75']:.2f}]"
 
     for row in res["rows"]:
         f = row["fem_s"]
@@ -225,6 +245,51 @@ def markdown(res: dict, cmd: str) -> str:
     return "\n".join(lines)
 
 
+def q(v):
+    return f"**{v['median']:.2f}** [{v['q25']:.2f}, {v['q75']:.2f}]"
+
+
+def markdown_rows(res: dict, cmd: str) -> str:
+    """The section against a revision that already had the row kernel (``before_kind`` rows)."""
+    lines = ["<!-- begin:assembly_flat -->", "## Stiffness assembly: the row kernel on flat "
+             "arrays with unsigned indices (`benchmarks/assembly.py --before "
+             f"{res['before']}`)", "",
+             f"Command: `{cmd}` ({res['machine']}, {res['date']}, {res['threads']} numba "
+             f"threads; a shared 2-core machine with other jobs running, load average "
+             f"{res['load']}). {res['rounds']} rounds after a warm-up, each round timing "
+             "the EFG `stiffness(shape, w, D)` call of this tree and its point lists alone, "
+             f"the same call of revision `{res['before']}` (before) and its point lists "
+             "alone on the same shape functions, then scikit-fem `asm` of vector P2 "
+             "elasticity at about the same number of unknowns (the `Basis` built outside the "
+             "timing); each ratio is taken per round, median [quartiles] over the rounds. K "
+             "against the one before: the same indptr and indices, and max |K - K_before| / "
+             "max |K_before| (0: the same sums in the same order).", "",
+             "| unknowns EFG / P2 | d_max | points | nonzeros EFG / P2 | P2 asm s | before s "
+             "(of which point lists) | **EFG / P2 before** | now s (of which point lists) | "
+             "**EFG / P2 now** | speed-up | K difference |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for row in res["rows"]:
+        f = row["fem_s"]
+        for e in row["efg"]:
+            lines.append(
+                f"| {e['n_dofs']} / {row['n_dofs_fem']} | {e['d_max']} | {e['n_points']} | "
+                f"{e['K_nnz']} / {row['K_nnz_fem']} | {f['median']:.3f} | "
+                f"{e['before_s']['median']:.3f} ({e['before_pattern_s']['median']:.3f}) | "
+                f"{q(e['before_ratio'])} | {e['stiffness_s']['median']:.3f} "
+                f"({e['lists_s']['median']:.3f}) | {q(e['ratio'])} | {q(e['speedup'])} | "
+                f"{e['K_max_rel_diff']:.1e} |")
+    worst = max(e["ratio"]["median"] for row in res["rows"] for e in row["efg"]
+                if e["d_max"] == 2.5)
+    lines += ["", "Target: EFG / P2 <= 1.5 at d_max 2.5 "
+              + ("(reached at every size of this run)." if worst <= 1.5 else
+                 f"(not reached at every size of this run: worst median {worst:.2f}).")]
+    lines += NOTES_FLAT + ["<!-- end:assembly_flat -->", ""]
+    return "\n".join(lines)
+
+
+NOTES_FLAT: list = []  # the paragraph under the table (filled in below)
+
+
 def main(argv=None) -> dict:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true")
@@ -239,12 +304,16 @@ def main(argv=None) -> dict:
     sizes = [20_000] if args.quick else args.dofs
     rounds = 2 if args.quick else args.rounds
     old = previous_kernels(args.before) if args.before else None
+    load = os.getloadavg()[0]
     res = {"machine": f"{platform.machine()}, {platform.python_implementation()} "
                       f"{platform.python_version()}", "date": time.strftime("%Y-%m-%d"),
            "threads": get_num_threads(), "rounds": rounds, "before": args.before,
+           "before_kind": "rows" if hasattr(old, "block_rows") else "passes",
            "rows": [{"n_dofs": n, **measure(n, rounds, old)} for n in sizes]}
+    res["load"] = f"{load:.1f} at the start, {os.getloadavg()[0]:.1f} at the end"
     cmd = ("PYTHONPATH=. NUMBA_NUM_THREADS=2 python benchmarks/assembly.py"
-           + (" --quick" if args.quick else "") + (f" --rounds {rounds}" if rounds != 7 else ""))
+           + (" --quick" if args.quick else "") + (f" --rounds {rounds}" if rounds != 7 else "")
+           + (f" --before {args.before}" if args.before != "d11158e" else ""))
     if not args.no_write:
         from doc_sections import write_section
         write_section(markdown(res, cmd), ROOT / "docs" / "performance.md")

@@ -32,21 +32,32 @@ def transpose_padded(idx, mask, n_functions, n_threads, like):
     of a function ascending, and whether the valid entries of every row of ``idx`` ascend
     (then the functions J >= idx[q, a] of point q are those in the slots b >= a). Thread
     ``t`` counts and then fills the points of its chunk; its entries of function I start
-    after those of the chunks before it, so the order is that of a serial pass."""
+    after those of the chunks before it, so the order is that of a serial pass. The flat
+    arrays are indexed with unsigned integers (module docstring)."""
     n, k = idx.shape
+    uk = np.uint64(k)
+    one = np.uint64(1)
+    flat_idx = idx.ravel()
+    flat_mask = mask.ravel()
     chunk = (n + n_threads - 1) // n_threads
     counts = np.zeros((n_threads, n_functions), np.int64)
     unsorted = np.zeros(n_threads, np.int64)
     for t in prange(n_threads):
+        count = counts[t]
+        bad = 0
         for q in range(t * chunk, min(n, (t + 1) * chunk)):
+            s = np.uint64(q) * uk
+            end = s + uk
             last = -1
-            for a in range(k):
-                if mask[q, a]:
-                    I = idx[q, a]
-                    counts[t, I] += 1
+            while s < end:
+                if flat_mask[s]:
+                    I = np.int64(flat_idx[s])
+                    count[np.uint64(I)] += 1
                     if I <= last:
-                        unsorted[t] += 1
+                        bad += 1
                     last = I
+                s += one
+        unsorted[t] = bad
     indptr = np.zeros(n_functions + 1, np.int64)
     for I in range(n_functions):
         s = indptr[I]
@@ -57,13 +68,16 @@ def transpose_padded(idx, mask, n_functions, n_threads, like):
         indptr[I + 1] = s
     pos = np.empty(indptr[-1], like.dtype)
     for t in prange(n_threads):
-        for q in range(t * chunk, min(n, (t + 1) * chunk)):
-            for a in range(k):
-                if mask[q, a]:
-                    I = idx[q, a]
-                    f = counts[t, I]
-                    pos[f] = q * k + a
-                    counts[t, I] = f + 1
+        count = counts[t]
+        s = np.uint64(t * chunk) * uk
+        end = np.uint64(min(n, (t + 1) * chunk)) * uk
+        while s < end:
+            if flat_mask[s]:
+                u = np.uint64(flat_idx[s])
+                f = np.uint64(count[u])
+                pos[f] = s
+                count[u] = f + one
+            s += one
     return indptr, pos, unsorted.sum() == 0
 
 
@@ -82,12 +96,25 @@ def block_rows(r0, r1, t_ptr, t_pos, tgx, tgy, trial_idx, trial_mask, gx, gy, w,
     for any D (symmetric or not), with ``c0 = ax D00 + ay D20``, ``c1 = ax D02 + ay D22``,
     ``c3 = ax D01 + ay D21``, ``c4 = ay D10 + ax D20``, ``c5 = ay D12 + ax D22``,
     ``c7 = ay D11 + ax D21`` formed once per (I, q): 8 products per (I, q, J) instead of
-    20 for ``D B_J`` and its contraction. Releases the GIL: chunks of rows run on parallel
-    threads.
+    20 for ``D B_J`` and its contraction. The (point, slot) entries and the accumulator are
+    flat arrays indexed with unsigned integers (module docstring). Releases the GIL: chunks
+    of rows run on parallel threads.
     """
     k = trial_idx.shape[1]
-    k_test = tgx.shape[1]
-    acc = np.zeros((max(n_cols, 1), 2, 2))
+    uk = np.uint64(k)
+    ukt = np.uint64(tgx.shape[1])
+    one = np.uint64(1)
+    two = np.uint64(2)
+    three = np.uint64(3)
+    four = np.uint64(4)
+    flat_tgx, flat_tgy = tgx.ravel(), tgy.ravel()
+    flat_gx, flat_gy = gx.ravel(), gy.ravel()
+    flat_idx, flat_mask = trial_idx.ravel(), trial_mask.ravel()
+    d00, d01, d02 = D[0, 0], D[0, 1], D[0, 2]
+    d10, d11, d12 = D[1, 0], D[1, 1], D[1, 2]
+    d20, d21, d22 = D[2, 0], D[2, 1], D[2, 2]
+    short = upper and ascending
+    acc = np.zeros(4 * max(n_cols, 1))
     marker = np.full(max(n_cols, 1), -1, np.int64)
     found = np.empty(max(n_cols, 1), np.int32)
     lens = np.zeros(r1 - r0, np.int64)
@@ -97,34 +124,40 @@ def block_rows(r0, r1, t_ptr, t_pos, tgx, tgy, trial_idx, trial_mask, gx, gy, w,
     fill = 0
     for I in range(r0, r1):
         n_found = 0
+        low = I if upper else -1
         for p in range(t_ptr[I], t_ptr[I + 1]):
-            q = t_pos[p] // k_test
-            a = t_pos[p] - q * k_test
-            ax = w[q] * tgx[q, a]
-            ay = w[q] * tgy[q, a]
-            c0 = ax * D[0, 0] + ay * D[2, 0]
-            c1 = ax * D[0, 2] + ay * D[2, 2]
-            c3 = ax * D[0, 1] + ay * D[2, 1]
-            c4 = ay * D[1, 0] + ax * D[2, 0]
-            c5 = ay * D[1, 2] + ax * D[2, 2]
-            c7 = ay * D[1, 1] + ax * D[2, 1]
-            for b in range(a if upper and ascending else 0, k):
-                if not trial_mask[q, b]:
-                    continue
-                J = trial_idx[q, b]
-                if upper and J < I:
-                    continue
-                if marker[J] != I:
-                    marker[J] = I
-                    found[n_found] = J
-                    n_found += 1
-                bx = gx[q, b]
-                by = gy[q, b]
-                blk = acc[J]
-                blk[0, 0] += bx * c0 + by * c1
-                blk[0, 1] += bx * c1 + by * c3
-                blk[1, 0] += bx * c4 + by * c5
-                blk[1, 1] += bx * c5 + by * c7
+            pos = np.uint64(t_pos[p])
+            q = pos // ukt
+            a = pos - q * ukt
+            ax = w[q] * flat_tgx[pos]
+            ay = w[q] * flat_tgy[pos]
+            c0 = ax * d00 + ay * d20
+            c1 = ax * d02 + ay * d22
+            c3 = ax * d01 + ay * d21
+            c4 = ay * d10 + ax * d20
+            c5 = ay * d12 + ax * d22
+            c7 = ay * d11 + ax * d21
+            s = q * uk
+            end = s + uk
+            if short:
+                s += a
+            while s < end:
+                if flat_mask[s]:
+                    J = np.int64(flat_idx[s])
+                    if J >= low:
+                        u = np.uint64(J)
+                        if marker[u] != I:
+                            marker[u] = I
+                            found[n_found] = J
+                            n_found += 1
+                        bx = flat_gx[s]
+                        by = flat_gy[s]
+                        o = four * u
+                        acc[o] += bx * c0 + by * c1
+                        acc[o + one] += bx * c1 + by * c3
+                        acc[o + two] += bx * c4 + by * c5
+                        acc[o + three] += bx * c5 + by * c7
+                s += one
         if fill + n_found > capacity:
             capacity = max(2 * capacity, fill + n_found)
             grown_cols = np.empty(capacity, np.int32)
@@ -136,13 +169,14 @@ def block_rows(r0, r1, t_ptr, t_pos, tgx, tgy, trial_idx, trial_mask, gx, gy, w,
         for m in range(n_found):
             J = row[m]
             cols[fill + m] = J
+            o = 4 * np.uint64(J)
             for i in range(2):
                 for j in range(2):
-                    data[fill + m, i, j] = acc[J, i, j]
-                    acc[J, i, j] = 0.0
+                    data[fill + m, i, j] = acc[o + np.uint64(2 * i + j)]
+                    acc[o + np.uint64(2 * i + j)] = 0.0
         lens[I - r0] = n_found
         fill += n_found
-    return lens, cols[:fill].copy(), data[:fill].copy()
+    return lens, cols[:fill], data[:fill]
 
 
 @njit(cache=True)
