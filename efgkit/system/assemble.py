@@ -39,30 +39,68 @@ def point_to_function_map(shape: Shape):
 
 def _lists(shape: Shape, threads: int):
     """The points of each function as (indptr, pos = q k + a) and whether the rows of the
-    neighbour lists ascend (:func:`efgkit.system.kernels.transpose_padded`)."""
-    from .kernels import transpose_padded
+    neighbour lists ascend (:func:`efgkit.system.kernels.count_points`, ``fill_points``):
+    chunks of points counted, then filled, on ``threads`` threads; chunk c's entries of a
+    function follow those of the chunks before it, so every list ascends."""
+    from .kernels import count_points, fill_points
 
     nb = shape.neighbours
-    like = np.empty(0, np.int32 if nb.idx.size < 2**31 else np.int64)  # for q k + a
-    return transpose_padded(nb.idx, nb.mask, shape.n_functions, threads, like)
+    spans = _spans(np.linspace(0, nb.idx.shape[0], _n_chunks(threads) + 1).astype(np.int64))
+    counts = np.zeros((len(spans), shape.n_functions), np.int64)
+    bad = _on_threads(lambda c: count_points(*spans[c], nb.idx, nb.mask, counts[c]),
+                      range(len(spans)), threads)
+    ends = np.cumsum(counts, axis=0)  # chunk c's entries of I follow those of c' < c
+    indptr = np.zeros(shape.n_functions + 1, np.int64)
+    if len(spans):
+        np.cumsum(ends[-1], out=indptr[1:])
+    starts = ends - counts + indptr[:-1]
+    del ends
+    pos = np.empty(int(indptr[-1]), np.int32 if nb.idx.size < 2**31 else np.int64)
+    _on_threads(lambda c: fill_points(*spans[c], nb.idx, nb.mask, starts[c], pos),
+                range(len(spans)), threads)
+    return indptr, pos, sum(bad) == 0
+
+
+def _n_chunks(threads: int) -> int:
+    """Ranges of points or rows handed to the threads: several per thread (one code path on
+    one thread; a thread stalled by the shared machine holds up a small range only)."""
+    return 4 * max(threads, 2)
+
+
+def _spans(bounds: np.ndarray) -> list:
+    """Ranges ``(bounds[i], bounds[i + 1])`` as Python ints, the empty ones dropped."""
+    b = np.unique(bounds).tolist()
+    return list(zip(b[:-1], b[1:], strict=True))
+
+
+def _on_threads(fn, items, threads: int) -> list:
+    """``[fn(i) for i in items]`` on a pool of ``threads`` threads (the kernels release the
+    GIL), handed out in order as threads come free."""
+    items = list(items)
+    if threads > 1 and len(items) > 1:
+        from concurrent.futures import ThreadPoolExecutor
+
+        with ThreadPoolExecutor(threads) as pool:
+            return list(pool.map(fn, items))
+    return [fn(i) for i in items]
 
 
 def _compiled(test: Shape, trial: Shape, w: np.ndarray, D: np.ndarray) -> csr_array:
     """K by the compiled row kernel (module docstring of :mod:`efgkit.system.kernels`): the
     rows in chunks of about equal numbers of (function, point) pairs, run on
-    ``numba.get_num_threads()`` threads (the kernel releases the GIL), then scalar CSR."""
+    ``numba.get_num_threads()`` threads (the kernels release the GIL), then scalar CSR
+    written by the same chunks of rows."""
     import numba
 
-    from .kernels import block_rows, lower_part, scalar_csr
+    from .kernels import block_rows, lower_part, scalar_rows
 
     threads = numba.get_num_threads()
     nb = trial.neighbours
     t_ptr, t_pos, ascending = _lists(test, threads)
     n, m = test.n_functions, trial.n_functions
     symmetric = test is trial and np.array_equal(D, D.T)  # K_JI = K_IJ^T: half the work
-    n_chunks = 4 * max(threads, 2)  # several even on one thread: one code path
-    cuts = np.searchsorted(t_ptr, np.linspace(0, t_ptr[-1], n_chunks + 1)[1:-1])
-    bounds = np.unique(np.concatenate([[0], cuts, [n]]))
+    cuts = np.searchsorted(t_ptr, np.linspace(0, t_ptr[-1], _n_chunks(threads) + 1)[1:-1])
+    rows = _spans(np.concatenate([[0], cuts, [n]]))
     width = nb.idx.shape[1] * (2 if symmetric else 4)  # about the blocks of a row
 
     def run(r):
@@ -70,27 +108,27 @@ def _compiled(test: Shape, trial: Shape, w: np.ndarray, D: np.ndarray) -> csr_ar
                           nb.mask, trial.ddx, trial.ddy, w, D, symmetric, ascending, m,
                           (r[1] - r[0]) * width)
 
-    rows = list(zip(bounds[:-1], bounds[1:], strict=True))
-    if threads > 1 and len(rows) > 1:
-        from concurrent.futures import ThreadPoolExecutor
-
-        with ThreadPoolExecutor(threads) as pool:
-            parts = list(pool.map(run, rows))
-    else:
-        parts = [run(r) for r in rows]
+    parts = _on_threads(run, rows, threads)
     u_ptr = np.zeros(n + 1, np.int64)
-    np.cumsum(np.concatenate([p[0] for p in parts]), out=u_ptr[1:])
-    u_cols = np.concatenate([p[1] for p in parts])
-    u_data = np.concatenate([p[2] for p in parts])
+    np.cumsum(np.concatenate([p[0] for p in parts] + [np.zeros(0, np.int64)]), out=u_ptr[1:])
+    u_cols = np.concatenate([p[1] for p in parts] + [np.zeros(0, np.int32)])
+    u_data = np.concatenate([p[2] for p in parts] + [np.zeros((0, 2, 2))])
     del parts
     if symmetric:
         l_ptr, l_row, l_src = lower_part(u_ptr, u_cols)
     else:
         l_ptr, l_row, l_src = np.zeros(n + 1, np.int64), np.empty(0, np.int32), np.empty(0, np.int64)
-    nnz = 4 * (int(u_ptr[-1]) + int(l_ptr[-1]))
+    start = np.zeros(n + 1, np.int64)  # first scalar entry of block row I (of row 2 I)
+    np.cumsum(4 * (np.diff(l_ptr) + np.diff(u_ptr)), out=start[1:])
+    nnz = int(start[-1])
     index = np.int32 if max(nnz, 2 * m) < 2**31 else np.int64
-    indptr, indices, values = np.empty(2 * n + 1, index), np.empty(nnz, index), np.empty(nnz)
-    scalar_csr(u_ptr, u_cols, u_data, l_ptr, l_row, l_src, indptr, indices, values)
+    indptr = np.empty(2 * n + 1, index)
+    indptr[0:2 * n:2] = start[:-1]
+    indptr[1:2 * n:2] = (start[:-1] + start[1:]) // 2  # row 2 I + 1: second half of block row I
+    indptr[2 * n] = nnz
+    indices, values = np.empty(nnz, index), np.empty(nnz)
+    _on_threads(lambda r: scalar_rows(r[0], r[1], start, u_ptr, u_cols, u_data, l_ptr,
+                                      l_row, l_src, indices, values), rows, threads)
     return csr_array((values, indices, indptr), shape=(2 * n, 2 * m))
 
 
