@@ -85,6 +85,20 @@ def _on_threads(fn, items, threads: int) -> list:
     return [fn(i) for i in items]
 
 
+def _row_order(t_ptr: np.ndarray, t_pos: np.ndarray, k: int) -> np.ndarray:
+    """The order in which the rows of K are formed: by the middle point of each function's
+    point list (points ascending). The points come sorted by box (as the discretisation
+    sorts them), so this sweeps the domain a strip of boxes at a time: consecutive rows have
+    nearby supports, and the points they share are still in cache (on a 100k-unknown square
+    the row pass took 0.70-0.76 s in this order against 0.88 s in node order, one thread).
+    Empty functions go last."""
+    n = len(t_ptr) - 1
+    mid = np.full(n, np.iinfo(np.int64).max)
+    has = t_ptr[1:] > t_ptr[:-1]
+    mid[has] = t_pos[(t_ptr[:-1][has] + t_ptr[1:][has]) // 2] // k
+    return np.argsort(mid, kind="stable")
+
+
 def _compiled(test: Shape, trial: Shape, w: np.ndarray, D: np.ndarray) -> csr_array:
     """K by the compiled row kernel (module docstring of :mod:`efgkit.system.kernels`): the
     rows in chunks of about equal numbers of (function, point) pairs, run on
@@ -99,27 +113,31 @@ def _compiled(test: Shape, trial: Shape, w: np.ndarray, D: np.ndarray) -> csr_ar
     t_ptr, t_pos, ascending = _lists(test, threads)
     n, m = test.n_functions, trial.n_functions
     symmetric = test is trial and np.array_equal(D, D.T)  # K_JI = K_IJ^T: half the work
-    cuts = np.searchsorted(t_ptr, np.linspace(0, t_ptr[-1], _n_chunks(threads) + 1)[1:-1])
-    rows = _spans(np.concatenate([[0], cuts, [n]]))
+    order = _row_order(t_ptr, t_pos, test.ddx.shape[1])
+    work = np.cumsum(np.diff(t_ptr)[order])  # (function, point) pairs up to each row
+    cuts = np.searchsorted(work, np.linspace(0, work[-1] if n else 0, _n_chunks(threads) + 1)[1:-1])
+    chunks = _spans(np.concatenate([[0], cuts, [n]]))
     width = nb.idx.shape[1] * (2 if symmetric else 4)  # about the blocks of a row
 
     def run(r):
-        return block_rows(r[0], r[1], t_ptr, t_pos, test.ddx, test.ddy, nb.idx,
+        return block_rows(order, r[0], r[1], t_ptr, t_pos, test.ddx, test.ddy, nb.idx,
                           nb.mask, trial.ddx, trial.ddy, w, D, symmetric, ascending, m,
                           (r[1] - r[0]) * width)
 
-    parts = _on_threads(run, rows, threads)
-    u_ptr = np.zeros(n + 1, np.int64)
-    np.cumsum(np.concatenate([p[0] for p in parts] + [np.zeros(0, np.int64)]), out=u_ptr[1:])
+    parts = _on_threads(run, chunks, threads)
+    u_len = np.zeros(n, np.int64)  # the upper rows, stored in the order they were formed
+    u_len[order] = np.concatenate([p[0] for p in parts] + [np.zeros(0, np.int64)])
+    u_off = np.zeros(n, np.int64)
+    u_off[order] = np.cumsum(u_len[order]) - u_len[order]
     u_cols = np.concatenate([p[1] for p in parts] + [np.zeros(0, np.int32)])
     u_data = np.concatenate([p[2] for p in parts] + [np.zeros((0, 2, 2))])
     del parts
     if symmetric:
-        l_ptr, l_row, l_src = lower_part(u_ptr, u_cols)
+        l_ptr, l_row, l_src = lower_part(u_off, u_len, u_cols)
     else:
         l_ptr, l_row, l_src = np.zeros(n + 1, np.int64), np.empty(0, np.int32), np.empty(0, np.int64)
     start = np.zeros(n + 1, np.int64)  # first scalar entry of block row I (of row 2 I)
-    np.cumsum(4 * (np.diff(l_ptr) + np.diff(u_ptr)), out=start[1:])
+    np.cumsum(4 * (np.diff(l_ptr) + u_len), out=start[1:])
     nnz = int(start[-1])
     index = np.int32 if max(nnz, 2 * m) < 2**31 else np.int64
     indptr = np.empty(2 * n + 1, index)
@@ -127,7 +145,8 @@ def _compiled(test: Shape, trial: Shape, w: np.ndarray, D: np.ndarray) -> csr_ar
     indptr[1:2 * n:2] = (start[:-1] + start[1:]) // 2  # row 2 I + 1: second half of block row I
     indptr[2 * n] = nnz
     indices, values = np.empty(nnz, index), np.empty(nnz)
-    _on_threads(lambda r: scalar_rows(r[0], r[1], start, u_ptr, u_cols, u_data, l_ptr,
+    rows = _spans(np.linspace(0, n, _n_chunks(threads) + 1).astype(np.int64))
+    _on_threads(lambda r: scalar_rows(r[0], r[1], start, u_off, u_len, u_cols, u_data, l_ptr,
                                       l_row, l_src, indices, values), rows, threads)
     return csr_array((values, indices, indptr), shape=(2 * n, 2 * m))
 

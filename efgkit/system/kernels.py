@@ -78,11 +78,13 @@ def fill_points(q0, q1, idx, mask, start, pos):
 
 
 @njit(cache=True, nogil=True)
-def block_rows(r0, r1, t_ptr, t_pos, tgx, tgy, trial_idx, trial_mask, gx, gy, w, D,
+def block_rows(order, r0, r1, t_ptr, t_pos, tgx, tgy, trial_idx, trial_mask, gx, gy, w, D,
                upper, ascending, n_cols, capacity):
-    """Block rows ``r0 <= I < r1`` of K: (lengths (r1 - r0,), cols (nnz,) int32 ascending
-    per row, blocks (nnz, 2, 2)); with ``upper`` only the blocks J >= I (with
-    ``ascending`` rows of ``trial_idx``, those in the slots from I's own on).
+    """Block rows ``I = order[i]``, ``r0 <= i < r1``, of K, in that order: (lengths
+    (r1 - r0,), cols (nnz,) int32 ascending per row, blocks (nnz, 2, 2)); with ``upper``
+    only the blocks J >= I (with ``ascending`` rows of ``trial_idx``, those in the slots
+    from I's own on). Each row's sums do not depend on ``order``; an order that keeps the
+    supports of consecutive rows close keeps their points in cache.
 
     ``K_IJ += w_q B_I^v(x_q)^T D B_J(x_q)`` summed over the points q of test function I in
     the order of ``t_pos`` (:func:`transpose_padded` of the test functions), into
@@ -118,7 +120,8 @@ def block_rows(r0, r1, t_ptr, t_pos, tgx, tgy, trial_idx, trial_mask, gx, gy, w,
     cols = np.empty(capacity, np.int32)
     data = np.empty((capacity, 2, 2))
     fill = 0
-    for I in range(r0, r1):
+    for i_row in range(r0, r1):
+        I = np.int64(order[i_row])
         n_found = 0
         low = I if upper else -1
         for p in range(t_ptr[I], t_ptr[I + 1]):
@@ -170,20 +173,21 @@ def block_rows(r0, r1, t_ptr, t_pos, tgx, tgy, trial_idx, trial_mask, gx, gy, w,
                 for j in range(2):
                     data[fill + m, i, j] = acc[o + np.uint64(2 * i + j)]
                     acc[o + np.uint64(2 * i + j)] = 0.0
-        lens[I - r0] = n_found
+        lens[i_row - r0] = n_found
         fill += n_found
     return lens, cols[:fill], data[:fill]
 
 
 @njit(cache=True)
-def lower_part(u_ptr, u_cols):
-    """The blocks below the diagonal of a symmetric K from its upper rows: for each row I
-    the rows J < I whose upper row holds column I, ascending (l_ptr (n+1,), l_row (nl,)
-    int32, l_src (nl,) int64 the index of block (J, I) in the upper rows)."""
-    n = len(u_ptr) - 1
+def lower_part(u_off, u_len, u_cols):
+    """The blocks below the diagonal of a symmetric K from its upper rows (row J: the
+    blocks ``u_off[J] <= c < u_off[J] + u_len[J]``): for each row I the rows J < I whose
+    upper row holds column I, ascending (l_ptr (n+1,), l_row (nl,) int32, l_src (nl,)
+    int64 the index of block (J, I) in the upper rows)."""
+    n = len(u_off)
     l_ptr = np.zeros(n + 1, np.int64)
     for J in range(n):
-        for c in range(u_ptr[J], u_ptr[J + 1]):
+        for c in range(u_off[J], u_off[J] + u_len[J]):
             if u_cols[c] > J:
                 l_ptr[u_cols[c] + 1] += 1
     for I in range(n):
@@ -192,7 +196,7 @@ def lower_part(u_ptr, u_cols):
     l_row = np.empty(l_ptr[-1], np.int32)
     l_src = np.empty(l_ptr[-1], np.int64)
     for J in range(n):
-        for c in range(u_ptr[J], u_ptr[J + 1]):
+        for c in range(u_off[J], u_off[J] + u_len[J]):
             I = u_cols[c]
             if I > J:
                 l_row[fill[I]] = J
@@ -202,11 +206,13 @@ def lower_part(u_ptr, u_cols):
 
 
 @njit(cache=True, nogil=True)
-def scalar_rows(r0, r1, start, u_ptr, u_cols, u_data, l_ptr, l_row, l_src, indices, values):
+def scalar_rows(r0, r1, start, u_off, u_len, u_cols, u_data, l_ptr, l_row, l_src, indices,
+                values):
     """Write block rows ``r0 <= I < r1`` of K (2 n, 2 n_cols) as scalar CSR into
     ``indices``, ``values`` from ``start[I]`` (its block rows' first entry, the indptr of
     row 2 I): row 2 I + i holds, for each block column J of block row I ascending, the
-    entries (2 J, 2 J + 1); the blocks J < I listed in ``l_*`` are the transposes of blocks
+    entries (2 J, 2 J + 1); the blocks J >= I are the upper row's (``u_off[I] <= c <
+    u_off[I] + u_len[I]``), the blocks J < I listed in ``l_*`` the transposes of blocks
     (J, I). Releases the GIL: chunks of rows run on parallel threads."""
     for I in range(r0, r1):
         width = np.uint64((start[I + 1] - start[I]) // 2)
@@ -221,7 +227,7 @@ def scalar_rows(r0, r1, start, u_ptr, u_cols, u_data, l_ptr, l_row, l_src, indic
                 values[o] = u_data[c, 0, i]
                 values[o + np.uint64(1)] = u_data[c, 1, i]
             p += np.uint64(2)
-        for c in range(u_ptr[I], u_ptr[I + 1]):
+        for c in range(u_off[I], u_off[I] + u_len[I]):
             J = np.int64(u_cols[c])
             uc = np.uint64(c)
             for i in range(2):
