@@ -101,7 +101,7 @@ def stiffness_before(old, sh, w, D, pattern_only=False):
 
     if hasattr(old, "block_rows"):
         if pattern_only:
-            return old.assemble._lists(sh, numba.get_num_threads())
+            return old.assemble.point_to_function_map(sh)
         return old.assemble._compiled(sh, sh, w, np.ascontiguousarray(D, float))
     threads, nb = numba.get_num_threads(), sh.neighbours
     t_ptr, t_point, t_slot = old.transpose_padded(nb.idx, nb.mask, sh.n_functions)
