@@ -287,7 +287,29 @@ def markdown_rows(res: dict, cmd: str) -> str:
     return "\n".join(lines)
 
 
-NOTES_FLAT: list = []  # the paragraph under the table (filled in below)
+NOTES_FLAT = [
+    "What changed against the revision before (the same algorithm: Gustavson's row-by-row "
+    "accumulation of the 2 x 2 blocks J >= I, point lists `q k + a`, scalar CSR written "
+    "from the upper rows): (1) the padded (point, slot) arrays and the accumulator are read "
+    "through flat views indexed with unsigned integers, so numba emits no negative-index "
+    "wrap-around code (a sign test and a masked add per index) in the inner loop over "
+    "(I, q, J): the row pass went from 9 to 3-5 ns per (I, q, J) on one thread at 20k "
+    "unknowns (the same sums in the same order: K unchanged to the bit); (2) the point "
+    "lists (count, then fill) and the scalar CSR writing are nogil kernels over ranges of "
+    "points or rows handed out by a thread pool, as the row pass already was, instead of "
+    "`prange` loops: on this shared machine the OpenMP barrier of `prange` waited for a "
+    "descheduled thread, and the point lists took 4x longer on 2 threads than on 1; "
+    "(3) the rows are formed in the order of the middle point of each function's point "
+    "list: the points come sorted by box, so consecutive rows have nearby supports and "
+    "the points they share are still in cache (row pass on one thread at 100k unknowns: "
+    "0.75 s in this order, 0.80-1.05 s in node order, 0.67-0.71 s in strips of 8 node "
+    "rows, which needs the node coordinates the kernel does not have). The upper rows are "
+    "stored in the order they are formed and addressed by offset and length. What is left: "
+    "the row pass is about 80 % of the call at 100k unknowns (about 160M (I, q, J) triples "
+    "at d_max 2.5, each a read of phi_J's gradient and a read-modify-write of the four "
+    "entries of block (I, J), scalar: numba's vectoriser does not pack the four), the "
+    "marker test that lists a column the first time it is met about 15 % of that pass.",
+]
 
 
 def main(argv=None) -> dict:
