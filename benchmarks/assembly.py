@@ -1,7 +1,9 @@
 """Stiffness assembly against scikit-fem P2 at equal unknowns, interleaved in one process;
-written to the ``assembly`` section of docs/performance.md.
+written to the ``assembly`` section of docs/performance.md (``--before`` a revision with the
+row kernel, e.g. 406e76d: the ``assembly_flat`` section).
 
 Run:  PYTHONPATH=. NUMBA_NUM_THREADS=2 python benchmarks/assembly.py   (~20k and ~100k unknowns)
+      PYTHONPATH=. NUMBA_NUM_THREADS=2 python benchmarks/assembly.py --before 406e76d
       PYTHONPATH=. python benchmarks/assembly.py --quick --before ""  (a smoke run)
 
 EFG: unit square of n x n nodes, 4 x 4 Gauss points per cell of one spacing (points sorted
@@ -10,11 +12,13 @@ by box, as the discretisation does), MLS linear basis, d_max 2.5 and 2.0; timed 
 apart, the point lists alone; with ``--before REV`` also the row kernels of git
 revision REV (pattern pass, blocks pass, mirror, BSR to CSR) on the same shape
 functions, whose K is compared with today's, and their pattern alone (point lists and
-column pattern). scikit-fem: ``asm(linear_elasticity, basis)`` of
-vector P2 on a structured triangle mesh with (2m + 1)^2 nodes, the ``Basis`` built once
-outside the timing. Each round times EFG (every d_max) then scikit-fem, one after the other
-(A, B, A, B, ...); each ratio of each round is EFG / scikit-fem of that round, reported as
-the median with its quartiles over the rounds. One warm-up round compiles the kernels.
+column pattern); when REV already has the row kernel (``block_rows``), its whole
+``stiffness`` path (its kernels.py and assemble.py loaded from git) and its point lists.
+scikit-fem: ``asm(linear_elasticity, basis)`` of vector P2 on a structured triangle mesh
+with (2m + 1)^2 nodes, the ``Basis`` built once outside the timing. Each round times EFG
+(every d_max) then scikit-fem, one after the other (A, B, A, B, ...); each ratio of each
+round is EFG / scikit-fem of that round, reported as the median with its quartiles over the
+rounds. One warm-up round compiles the kernels.
 """
 
 from __future__ import annotations
