@@ -117,3 +117,27 @@ def test_thread_count_does_not_change_the_bits(setup):
         numba.set_num_threads(before)
     assert np.array_equal(A.indptr, B.indptr) and np.array_equal(A.indices, B.indices)
     assert np.array_equal(A.data, B.data)
+
+
+def test_vectorised_compile_leaves_numba_config_as_it_was(setup):
+    # The row kernel is compiled with numba's SLP vectoriser switched on for that
+    # compilation only; the global setting is restored (also when it raises).
+    from numba.core import config
+
+    from efgkit.system.kernels import compile_vectorised
+
+    _, w, sh, _ = setup
+    before = config.SLP_VECTORIZE
+    stiffness(sh, w, Elastic(1.0, 0.3).D, backend="numba")
+    assert config.SLP_VECTORIZE == before
+
+    class Failing:
+        overloads: dict = {}
+
+        def compile(self, signature):
+            assert config.SLP_VECTORIZE == 1
+            raise RuntimeError("compile failed")
+
+    with pytest.raises(RuntimeError, match="compile failed"):
+        compile_vectorised(Failing(), np.zeros(3))
+    assert config.SLP_VECTORIZE == before

@@ -106,7 +106,7 @@ def _compiled(test: Shape, trial: Shape, w: np.ndarray, D: np.ndarray) -> csr_ar
     written by the same chunks of rows."""
     import numba
 
-    from .kernels import block_rows, lower_part, scalar_rows
+    from .kernels import block_rows, compile_vectorised, lower_part, scalar_rows
 
     threads = numba.get_num_threads()
     nb = trial.neighbours
@@ -119,12 +119,12 @@ def _compiled(test: Shape, trial: Shape, w: np.ndarray, D: np.ndarray) -> csr_ar
     chunks = _spans(np.concatenate([[0], cuts, [n]]))
     width = nb.idx.shape[1] * (2 if symmetric else 4)  # about the blocks of a row
 
-    def run(r):
-        return block_rows(order, r[0], r[1], t_ptr, t_pos, test.ddx, test.ddy, nb.idx,
-                          nb.mask, trial.ddx, trial.ddy, w, D, symmetric, ascending, m,
-                          (r[1] - r[0]) * width)
+    def args(r):
+        return (order, r[0], r[1], t_ptr, t_pos, test.ddx, test.ddy, nb.idx, nb.mask,
+                trial.ddx, trial.ddy, w, D, symmetric, ascending, m, (r[1] - r[0]) * width)
 
-    parts = _on_threads(run, chunks, threads)
+    compile_vectorised(block_rows, *args((0, 0)))  # before the threads call it
+    parts = _on_threads(lambda r: block_rows(*args(r)), chunks, threads)
     u_len = np.zeros(n, np.int64)  # the upper rows, stored in the order they were formed
     u_len[order] = np.concatenate([p[0] for p in parts] + [np.zeros(0, np.int64)])
     u_off = np.zeros(n, np.int64)

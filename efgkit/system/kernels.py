@@ -26,9 +26,34 @@ from numba import njit
 
 from ..timing import watch_compiles
 
-__all__ = ["block_rows", "count_points", "fill_points", "lower_part", "scalar_rows"]
+__all__ = ["block_rows", "compile_vectorised", "count_points", "fill_points", "lower_part",
+           "scalar_rows"]
 
 watch_compiles()
+
+
+def compile_vectorised(kernel, *args) -> None:
+    """Compile ``kernel`` for the types of ``args`` (or load it from numba's cache) with
+    LLVM's superword-level-parallelism vectoriser on, unless that overload exists already.
+
+    numba leaves the SLP vectoriser off by default (``NUMBA_SLP_VECTORIZE=0``: it slowed
+    some numba code down); in :func:`block_rows` it packs the four read-modify-writes of
+    the 2 x 2 block (and their eight products) into vector instructions, lane by lane the
+    same operations in the same order, so K is the same to the bit. The switch is numba's
+    global configuration, read when a function is compiled: set for this compilation only
+    (numba compiles one function at a time, under its compiler lock)."""
+    from numba import typeof
+    from numba.core import config
+
+    signature = tuple(typeof(a) for a in args)
+    if signature in kernel.overloads:
+        return
+    before = config.SLP_VECTORIZE
+    config.SLP_VECTORIZE = 1
+    try:
+        kernel.compile(signature)
+    finally:
+        config.SLP_VECTORIZE = before
 
 
 @njit(cache=True, nogil=True)
