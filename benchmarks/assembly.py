@@ -255,8 +255,8 @@ def q(v):
 
 def markdown_rows(res: dict, cmd: str) -> str:
     """The section against a revision that already had the row kernel (``before_kind`` rows)."""
-    lines = ["<!-- begin:assembly_flat -->", "## Stiffness assembly: the row kernel on flat "
-             "arrays with unsigned indices (`benchmarks/assembly.py --before "
+    lines = ["<!-- begin:assembly_flat -->", "## Stiffness assembly against scikit-fem P2 after "
+             "the row-kernel tuning (`benchmarks/assembly.py --before "
              f"{res['before']}`)", "",
              f"Command: `{cmd}` ({res['machine']}, {res['date']}, {res['threads']} numba "
              f"threads; a shared 2-core machine with other jobs running, load average "
@@ -297,20 +297,22 @@ NOTES_FLAT = [
     "from the upper rows; the same sums in the same order, so K is unchanged to the bit): "
     "(1) the padded (point, slot) arrays and the accumulator are read through flat views "
     "indexed with unsigned integers, so numba emits no negative-index wrap-around code (a "
-    "sign test and a masked add per index) in the inner loop over (I, q, J): the row pass "
-    "alone is 1.6x faster on one thread (next section); (2) the point lists (count, then "
-    "fill) and the scalar CSR writing are nogil kernels over ranges of points or rows "
-    "handed out by a thread pool, as the row pass already was, instead of `prange` loops, "
-    "whose OpenMP barrier waits for a thread the shared machine has descheduled; (3) the "
-    "rows are formed in the order of the middle point of each function's point list: the "
-    "points come sorted by box, so consecutive rows have nearby supports and the points "
-    "they share are still in cache (12 % off the row pass at 100k unknowns, none at 20k: "
-    "next section). The upper rows are stored in the order they are formed and addressed "
-    "by offset and length. The times of this run moved by up to 2x between rounds (the "
-    "point lists at 100k unknowns and d_max 2.5 most: quartiles 0.36-0.95 s); what is "
-    "left is the row pass, about 80 % of the call: about 160M (I, q, J) triples at 100k "
-    "unknowns and d_max 2.5, each a read of phi_J's gradient and a read-modify-write of "
-    "the four entries of block (I, J), scalar (numba's vectoriser does not pack the four).",
+    "sign test and a masked add per index) in the inner loop over (I, q, J); (2) the row "
+    "kernel is compiled with LLVM's SLP vectoriser on (numba's default is off), which "
+    "packs the four read-modify-writes of block (I, J) and their eight products into "
+    "vector instructions, the same operations lane by lane; (3) the rows are formed in "
+    "the order of the middle point of each function's point list: the points come sorted "
+    "by box, so consecutive rows have nearby supports and the points they share are still "
+    "in cache; (4) the point lists (count, then fill) and the scalar CSR writing are nogil "
+    "kernels over ranges of points or rows handed out by a thread pool, as the row pass "
+    "already was, instead of `prange` loops, whose OpenMP barrier waits for a thread the "
+    "shared machine has descheduled. The next section has the row pass alone by each of "
+    "(1)-(3). The upper rows are stored in the order they are formed and addressed by "
+    "offset and length. On this loaded machine the times of a variant move by up to 2x "
+    "between rounds (hence the quartiles); what is left is mostly the row pass: about "
+    "160M (I, q, J) triples at 100k unknowns and d_max 2.5, each a read of phi_J's "
+    "gradient, the marker test that lists J the first time it is met, and the update of "
+    "block (I, J) in the accumulator.",
 ]
 
 

@@ -108,9 +108,11 @@ def markdown(res: dict, cmd: str) -> str:
             lines.append(f"| {row['n_dofs']} | {row['n_points']} | {row['triples']} | {name} | "
                          f"{s['median']:.3f} [{s['q25']:.3f}, {s['q75']:.3f}] | "
                          f"{p['median']:.2f} [{p['q25']:.2f}, {p['q75']:.2f}] |")
-    lines += ["", "Between this tree's node-order row and the revision's, the only change is "
-              "the indexing (flat views, unsigned indices: no wrap-around code); the row "
-              "orders then change which points are still in cache when a row needs them.",
+    lines += ["", "Between the revision's row and this tree's in node order: the indexing (flat "
+              "views, unsigned indices: no wrap-around code) and the SLP vectoriser (this "
+              "tree's kernel compiled as `stiffness` compiles it, by `compile_vectorised`); "
+              "the row orders then change which points are still in cache when a row "
+              "needs them. Every variant forms the same blocks.",
               "<!-- end:assembly_rows -->", ""]
     return "\n".join(lines)
 

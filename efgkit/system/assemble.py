@@ -11,7 +11,10 @@ quadrature points in I's test support and adds their contributions straight
 into the row's blocks (no per-point dense matrices, no duplicate summation),
 finding the row's pattern in the same pass (:mod:`efgkit.system.kernels`).
 For Bubnov-Galerkin (v = phi) with a symmetric D it forms only the blocks
-J >= I and writes K_JI = K_IJ^T (half the products). The numpy reference
+J >= I and writes K_JI = K_IJ^T (half the products). The rows are formed in
+the order of the middle point of each function's point list (supports of
+consecutive rows close together) by chunks on a thread pool; each row's sums
+do not depend on that order or on the threads. The numpy reference
 forms the same matrix with scipy.sparse products.
 """
 
