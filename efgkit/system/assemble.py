@@ -267,12 +267,49 @@ def _with_enrichment(shape: Shape, w, D, backend) -> csr_array:
             ky = ky + dyT @ sy + dxT @ sxy
         return csr_array(vstack([csr_array(kx), csr_array(ky)], format="csr")[interleave])
 
+    if backend == "numba":
+        def nodal_rows(sig):  # noqa: F811 (the compiled rows instead of the operator products)
+            return _extra_compiled(shape, sig)
+
     sig = stresses(D)
     K_ne = nodal_rows(sig)
     K_en = K_ne.T if np.array_equal(D, D.T) else nodal_rows(stresses(D.T)).T  # E^T D B
     K_ee = csr_array(sum(eps[i].T @ sig[i] for i in range(3)))
     # all blocks CSR: scipy stacks the index arrays (no COO copy of K_nn on the way)
     return csr_array(bmat([[K_nn, K_ne], [csr_array(K_en), K_ee]], format="csr"))
+
+
+def _extra_compiled(shape: Shape, sig: list) -> csr_array:
+    """K_ne (2 n_functions, n_extra) = sum_q B_I^T sigma by the compiled rows
+    (:func:`efgkit.system.kernels.extra_rows`) over the point lists of the functions, rows in
+    chunks on the thread pool; ``sig`` the weighted stresses (xx, yy, xy) of the enrichment
+    unknowns, each (n_points, n_extra). Entries that sum to exactly zero are dropped, as the
+    sparse products of the reference do."""
+    import numba
+
+    from .kernels import extra_rows
+
+    threads = numba.get_num_threads()
+    t_ptr, t_pos, _ = _lists(shape, threads)
+    n, n_extra = shape.n_functions, sig[0].shape[1]
+    csr = [csr_array(a) for a in sig]
+    parts3 = [a for c in csr for a in (c.indptr.astype(np.int64), c.indices.astype(np.int32),
+                                       c.data.astype(float))]
+    order = _row_order(t_ptr, t_pos, shape.ddx.shape[1])
+    work = np.cumsum(np.diff(t_ptr)[order])
+    cuts = np.searchsorted(work, np.linspace(0, work[-1] if n else 0, _n_chunks(threads) + 1)[1:-1])
+    chunks = _spans(np.concatenate([[0], cuts, [n]]))
+    parts = _on_threads(lambda r: extra_rows(order, r[0], r[1], t_ptr, t_pos, shape.ddx,
+                                             shape.ddy, *parts3, n_extra), chunks, threads)
+    lens = np.zeros(n, np.int64)
+    lens[order] = np.concatenate([p[0] for p in parts] + [np.zeros(0, np.int64)])
+    cols = np.concatenate([p[1] for p in parts] + [np.zeros(0, np.int32)])
+    vals = np.concatenate([p[2] for p in parts] + [np.zeros((0, 2))])
+    rows = np.repeat(order, lens[order])  # the rows in the order they were formed
+    K = csr_array((vals.T.ravel(), (np.concatenate([2 * rows, 2 * rows + 1]),
+                                    np.concatenate([cols, cols]))), shape=(2 * n, n_extra))
+    K.eliminate_zeros()
+    return K
 
 
 def _petrov_enriched(trial: Shape, test: Shape, w, D, backend) -> csr_array:

@@ -26,8 +26,8 @@ from numba import njit
 
 from ..timing import watch_compiles
 
-__all__ = ["block_rows", "compile_vectorised", "count_points", "fill_points", "lower_part",
-           "scalar_rows"]
+__all__ = ["block_rows", "compile_vectorised", "count_points", "extra_rows", "fill_points",
+           "lower_part", "scalar_rows"]
 
 watch_compiles()
 
@@ -262,3 +262,75 @@ def scalar_rows(r0, r1, start, u_off, u_len, u_cols, u_data, l_ptr, l_row, l_src
                 values[o] = u_data[uc, i, 0]
                 values[o + np.uint64(1)] = u_data[uc, i, 1]
             p += np.uint64(2)
+
+
+@njit(cache=True, nogil=True)
+def extra_rows(order, r0, r1, t_ptr, t_pos, gx, gy, xx_ptr, xx_col, xx_val, yy_ptr, yy_col,
+               yy_val, xy_ptr, xy_col, xy_val, n_extra):
+    """Rows 2 I (x) and 2 I + 1 (y) of the nodal-enrichment block K_ne for ``I = order[i]``,
+    ``r0 <= i < r1``: ``sum_q (dx_I S_xx + dy_I S_xy)`` and ``sum_q (dy_I S_yy + dx_I S_xy)``
+    over the points q of function I (``t_ptr``, ``t_pos`` as for :func:`block_rows`), with
+    ``S_ij`` the weighted stresses of the enrichment unknowns at the points, each a CSR
+    triplet (``ij_ptr`` (n_points + 1,), ``ij_col``, ``ij_val``) over (n_points, n_extra).
+    Gustavson's row accumulation as in :func:`block_rows` (an unknown is listed the first
+    time it is met). Returns (lengths (r1 - r0,), cols (nnz,) int32 ascending per row,
+    values (nnz, 2): the x and y rows)."""
+    uk = np.uint64(gx.shape[1])
+    one = np.uint64(1)
+    flat_gx, flat_gy = gx.ravel(), gy.ravel()
+    acc = np.zeros(2 * max(n_extra, 1))
+    marker = np.full(max(n_extra, 1), -1, np.int64)
+    found = np.empty(max(n_extra, 1), np.int32)
+    lens = np.zeros(r1 - r0, np.int64)
+    capacity = 16
+    cols = np.empty(capacity, np.int32)
+    data = np.empty((capacity, 2))
+    fill = 0
+    for i_row in range(r0, r1):
+        I = np.int64(order[i_row])
+        n_found = 0
+        for p in range(t_ptr[I], t_ptr[I + 1]):
+            pos = np.uint64(t_pos[p])
+            q = pos // uk
+            bx = flat_gx[pos]
+            by = flat_gy[pos]
+            for c in range(xx_ptr[q], xx_ptr[q + one]):
+                e = np.uint64(xx_col[c])
+                if marker[e] != I:
+                    marker[e] = I
+                    found[n_found] = e
+                    n_found += 1
+                acc[2 * e] += bx * xx_val[c]
+            for c in range(yy_ptr[q], yy_ptr[q + one]):
+                e = np.uint64(yy_col[c])
+                if marker[e] != I:
+                    marker[e] = I
+                    found[n_found] = e
+                    n_found += 1
+                acc[2 * e + one] += by * yy_val[c]
+            for c in range(xy_ptr[q], xy_ptr[q + one]):
+                e = np.uint64(xy_col[c])
+                if marker[e] != I:
+                    marker[e] = I
+                    found[n_found] = e
+                    n_found += 1
+                acc[2 * e] += by * xy_val[c]
+                acc[2 * e + one] += bx * xy_val[c]
+        if fill + n_found > capacity:
+            capacity = max(2 * capacity, fill + n_found)
+            grown_cols = np.empty(capacity, np.int32)
+            grown_cols[:fill] = cols[:fill]
+            grown = np.empty((capacity, 2))
+            grown[:fill] = data[:fill]
+            cols, data = grown_cols, grown
+        row = np.sort(found[:n_found])
+        for m in range(n_found):
+            e = np.uint64(row[m])
+            cols[fill + m] = row[m]
+            data[fill + m, 0] = acc[2 * e]
+            data[fill + m, 1] = acc[2 * e + one]
+            acc[2 * e] = 0.0
+            acc[2 * e + one] = 0.0
+        lens[i_row - r0] = n_found
+        fill += n_found
+    return lens, cols[:fill], data[:fill]
