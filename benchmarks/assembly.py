@@ -306,12 +306,13 @@ NOTES_FLAT = [
     "in cache; (4) the point lists (count, then fill) and the scalar CSR writing are nogil "
     "kernels over ranges of points or rows handed out by a thread pool, as the row pass "
     "already was, instead of `prange` loops, whose OpenMP barrier waits for a thread the "
-    "shared machine has descheduled. The next section has the row pass alone by each of "
-    "(1)-(3). The upper rows are stored in the order they are formed and addressed by "
-    "offset and length. On this loaded machine the times of a variant move by up to 2x "
-    "between rounds (hence the quartiles); what is left is mostly the row pass: about "
-    "160M (I, q, J) triples at 100k unknowns and d_max 2.5, each a read of phi_J's "
-    "gradient, the marker test that lists J the first time it is met, and the update of "
+    "shared machine has descheduled. The next section has the row pass alone: (1) and "
+    "(2) together against the revision, and the row orders of (3). The upper rows are "
+    "stored in the order they are formed and addressed by offset and length. On this "
+    "loaded machine the times of a variant move by up to 2x between rounds (hence the "
+    "quartiles); what is left is mostly the row pass: about 160M (I, q, J) triples at "
+    "100k unknowns and d_max 2.5, each a read of phi_J's gradient, the marker test that "
+    "lists J the first time it is met, and the update of "
     "block (I, J) in the accumulator.",
 ]
 
