@@ -95,7 +95,8 @@ def markdown(res: dict, cmd: str) -> str:
               "products of the transposed derivative operators, built a chunk of 131072 "
               "points at a time, with the stresses; they are now summed row by row over the "
               "same point lists by `efgkit.system.kernels.extra_rows` (the values to "
-              "rounding: the products are grouped differently).",
+              "rounding: the products are grouped differently), and the four blocks are "
+              "stacked into one CSR copying each entry once (`bmat` copied K_nn twice).",
               "<!-- end:assembly_cracked -->", ""]
     return "\n".join(lines)
 
