@@ -79,3 +79,89 @@ def test_point_lists_against_a_stable_sort(setup):
     np.testing.assert_array_equal(indptr, np.r_[0, np.cumsum(np.bincount(I, minlength=sh.n_functions))])
     np.testing.assert_array_equal(point, q[order])
     np.testing.assert_array_equal(slot, a[order])
+
+
+def test_functions_without_points_give_empty_rows(setup):
+    # Points in the left half only: the functions whose supports miss them have no points,
+    # are formed last in the row order and get empty rows (streamed chunks meet this often).
+    xq, _, _, nodes = setup
+    left = xq[xq[:, 0] < 0.4]
+    sh = mls_shape(left, nodes)
+    w = np.full(len(left), 1 / len(left))
+    D = Elastic(1.0, 0.3).D
+    A = stiffness(sh, w, D, backend="numba")
+    B = stiffness(sh, w, D, backend="numpy")
+    empty = np.bincount(sh.neighbours.idx[sh.neighbours.mask], minlength=nodes.n) == 0
+    assert empty.sum() > 10
+    rows = np.diff(A.indptr)
+    assert np.all(rows[np.repeat(empty, 2)] == 0) and np.all(rows[np.repeat(~empty, 2)] > 0)
+    assert rel(A, B) <= ROUNDING
+
+
+def test_thread_count_does_not_change_the_bits(setup):
+    # Every row sums its own points in the order of its point list, whichever thread and
+    # chunk forms it: K is the same to the last bit on 1 and on 2 threads.
+    import numba
+
+    if numba.config.NUMBA_NUM_THREADS < 2:
+        pytest.skip("needs NUMBA_NUM_THREADS >= 2")
+    _, w, sh, _ = setup
+    D = Elastic(1.0, 0.3).D
+    before = numba.get_num_threads()
+    try:
+        numba.set_num_threads(1)
+        A = stiffness(sh, w, D, backend="numba")
+        numba.set_num_threads(2)
+        B = stiffness(sh, w, D, backend="numba")
+    finally:
+        numba.set_num_threads(before)
+    assert np.array_equal(A.indptr, B.indptr) and np.array_equal(A.indices, B.indices)
+    assert np.array_equal(A.data, B.data)
+
+
+def test_vectorised_compile_leaves_numba_config_as_it_was(setup):
+    # The row kernel is compiled with numba's SLP vectoriser switched on for that
+    # compilation only; the global setting is restored (also when it raises).
+    from numba.core import config
+
+    from efgkit.system.kernels import compile_vectorised
+
+    _, w, sh, _ = setup
+    before = config.SLP_VECTORIZE
+    stiffness(sh, w, Elastic(1.0, 0.3).D, backend="numba")
+    assert config.SLP_VECTORIZE == before
+
+    class Failing:
+        overloads: dict = {}
+
+        def compile(self, signature):
+            assert config.SLP_VECTORIZE == 1
+            raise RuntimeError("compile failed")
+
+    with pytest.raises(RuntimeError, match="compile failed"):
+        compile_vectorised(Failing(), np.zeros(3))
+    assert config.SLP_VECTORIZE == before
+
+
+@pytest.mark.parametrize("enrichment", ["extrinsic_mls", "pu"])
+@pytest.mark.parametrize("symmetric", [True, False])
+def test_enrichment_rows_equal_the_reference(enrichment, symmetric):
+    # The nodal-enrichment rows by the compiled kernel (three stress components as separate
+    # CSR patterns: PU's differ from one another) against the operator products of the
+    # numpy path; with an unsymmetric D the enrichment-node block is formed apart.
+    from efgkit import Crack, Scene
+    from efgkit.methods.discretize import discretize
+
+    sc = Scene(Domain.rectangle(0, 0, 2, 1), Elastic(1.0, 0.3),
+               cracks=(Crack([[0.0, 0.5], [0.9, 0.5]], tips=(False, True)),))
+    d = discretize(sc, EFG(spacing=0.125, enrichment=enrichment, rule_power=1.0))
+    D = Elastic(1.0, 0.3).D.copy()
+    if not symmetric:
+        D[0, 2], D[2, 0] = 0.1, -0.05
+    A = stiffness(d.shape, d.points.w, D, backend="numba")
+    B = stiffness(d.shape, d.points.w, D, backend="numpy")
+    assert d.shape.extra is not None and d.shape.extra.n >= 2
+    A.sort_indices()
+    B.sort_indices()
+    assert np.array_equal(A.indptr, B.indptr) and np.array_equal(A.indices, B.indices)
+    assert rel(A, B) <= ROUNDING

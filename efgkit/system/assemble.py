@@ -11,7 +11,10 @@ quadrature points in I's test support and adds their contributions straight
 into the row's blocks (no per-point dense matrices, no duplicate summation),
 finding the row's pattern in the same pass (:mod:`efgkit.system.kernels`).
 For Bubnov-Galerkin (v = phi) with a symmetric D it forms only the blocks
-J >= I and writes K_JI = K_IJ^T (half the products). The numpy reference
+J >= I and writes K_JI = K_IJ^T (half the products). The rows are formed in
+the order of the middle point of each function's point list (supports of
+consecutive rows close together) by chunks on a thread pool; each row's sums
+do not depend on that order or on the threads. The numpy reference
 forms the same matrix with scipy.sparse products.
 """
 
@@ -39,58 +42,115 @@ def point_to_function_map(shape: Shape):
 
 def _lists(shape: Shape, threads: int):
     """The points of each function as (indptr, pos = q k + a) and whether the rows of the
-    neighbour lists ascend (:func:`efgkit.system.kernels.transpose_padded`)."""
-    from .kernels import transpose_padded
+    neighbour lists ascend (:func:`efgkit.system.kernels.count_points`, ``fill_points``):
+    chunks of points counted, then filled, on ``threads`` threads; chunk c's entries of a
+    function follow those of the chunks before it, so every list ascends."""
+    from .kernels import count_points, fill_points
 
     nb = shape.neighbours
-    like = np.empty(0, np.int32 if nb.idx.size < 2**31 else np.int64)  # for q k + a
-    return transpose_padded(nb.idx, nb.mask, shape.n_functions, threads, like)
+    spans = _spans(np.linspace(0, nb.idx.shape[0], _n_chunks(threads) + 1).astype(np.int64))
+    counts = np.zeros((len(spans), shape.n_functions), np.int64)
+    bad = _on_threads(lambda c: count_points(*spans[c], nb.idx, nb.mask, counts[c]),
+                      range(len(spans)), threads)
+    ends = np.cumsum(counts, axis=0)  # chunk c's entries of I follow those of c' < c
+    indptr = np.zeros(shape.n_functions + 1, np.int64)
+    if len(spans):
+        np.cumsum(ends[-1], out=indptr[1:])
+    starts = ends - counts + indptr[:-1]
+    del ends
+    pos = np.empty(int(indptr[-1]), np.int32 if nb.idx.size < 2**31 else np.int64)
+    _on_threads(lambda c: fill_points(*spans[c], nb.idx, nb.mask, starts[c], pos),
+                range(len(spans)), threads)
+    return indptr, pos, sum(bad) == 0
+
+
+def _n_chunks(threads: int) -> int:
+    """Ranges of points or rows handed to the threads: several per thread (one code path on
+    one thread; a thread stalled by the shared machine holds up a small range only)."""
+    return 4 * max(threads, 2)
+
+
+def _spans(bounds: np.ndarray) -> list:
+    """Ranges ``(bounds[i], bounds[i + 1])`` as Python ints, the empty ones dropped."""
+    b = np.unique(bounds).tolist()
+    return list(zip(b[:-1], b[1:], strict=True))
+
+
+def _on_threads(fn, items, threads: int) -> list:
+    """``[fn(i) for i in items]`` on a pool of ``threads`` threads (the kernels release the
+    GIL), handed out in order as threads come free."""
+    items = list(items)
+    if threads > 1 and len(items) > 1:
+        from concurrent.futures import ThreadPoolExecutor
+
+        with ThreadPoolExecutor(threads) as pool:
+            return list(pool.map(fn, items))
+    return [fn(i) for i in items]
+
+
+def _row_order(t_ptr: np.ndarray, t_pos: np.ndarray, k: int) -> np.ndarray:
+    """The order in which the rows of K are formed: by the middle point of each function's
+    point list (points ascending). The points come sorted by box (as the discretisation
+    sorts them), so this sweeps the domain a strip of boxes at a time: consecutive rows have
+    nearby supports, and the points they share are still in cache (on a 100k-unknown square
+    the row pass took 0.70-0.76 s in this order against 0.88 s in node order, one thread).
+    Empty functions go last."""
+    n = len(t_ptr) - 1
+    mid = np.full(n, np.iinfo(np.int64).max)
+    has = t_ptr[1:] > t_ptr[:-1]
+    mid[has] = t_pos[(t_ptr[:-1][has] + t_ptr[1:][has]) // 2] // k
+    return np.argsort(mid, kind="stable")
 
 
 def _compiled(test: Shape, trial: Shape, w: np.ndarray, D: np.ndarray) -> csr_array:
     """K by the compiled row kernel (module docstring of :mod:`efgkit.system.kernels`): the
     rows in chunks of about equal numbers of (function, point) pairs, run on
-    ``numba.get_num_threads()`` threads (the kernel releases the GIL), then scalar CSR."""
+    ``numba.get_num_threads()`` threads (the kernels release the GIL), then scalar CSR
+    written by the same chunks of rows."""
     import numba
 
-    from .kernels import block_rows, lower_part, scalar_csr
+    from .kernels import block_rows, compile_vectorised, lower_part, scalar_rows
 
     threads = numba.get_num_threads()
     nb = trial.neighbours
     t_ptr, t_pos, ascending = _lists(test, threads)
     n, m = test.n_functions, trial.n_functions
     symmetric = test is trial and np.array_equal(D, D.T)  # K_JI = K_IJ^T: half the work
-    n_chunks = 4 * max(threads, 2)  # several even on one thread: one code path
-    cuts = np.searchsorted(t_ptr, np.linspace(0, t_ptr[-1], n_chunks + 1)[1:-1])
-    bounds = np.unique(np.concatenate([[0], cuts, [n]]))
+    order = _row_order(t_ptr, t_pos, test.ddx.shape[1])
+    work = np.cumsum(np.diff(t_ptr)[order])  # (function, point) pairs up to each row
+    cuts = np.searchsorted(work, np.linspace(0, work[-1] if n else 0, _n_chunks(threads) + 1)[1:-1])
+    chunks = _spans(np.concatenate([[0], cuts, [n]]))
     width = nb.idx.shape[1] * (2 if symmetric else 4)  # about the blocks of a row
 
-    def run(r):
-        return block_rows(r[0], r[1], t_ptr, t_pos, test.ddx, test.ddy, nb.idx,
-                          nb.mask, trial.ddx, trial.ddy, w, D, symmetric, ascending, m,
-                          (r[1] - r[0]) * width)
+    def args(r):
+        return (order, r[0], r[1], t_ptr, t_pos, test.ddx, test.ddy, nb.idx, nb.mask,
+                trial.ddx, trial.ddy, w, D, symmetric, ascending, m, (r[1] - r[0]) * width)
 
-    rows = list(zip(bounds[:-1], bounds[1:], strict=True))
-    if threads > 1 and len(rows) > 1:
-        from concurrent.futures import ThreadPoolExecutor
-
-        with ThreadPoolExecutor(threads) as pool:
-            parts = list(pool.map(run, rows))
-    else:
-        parts = [run(r) for r in rows]
-    u_ptr = np.zeros(n + 1, np.int64)
-    np.cumsum(np.concatenate([p[0] for p in parts]), out=u_ptr[1:])
-    u_cols = np.concatenate([p[1] for p in parts])
-    u_data = np.concatenate([p[2] for p in parts])
+    compile_vectorised(block_rows, *args((0, 0)))  # before the threads call it
+    parts = _on_threads(lambda r: block_rows(*args(r)), chunks, threads)
+    u_len = np.zeros(n, np.int64)  # the upper rows, stored in the order they were formed
+    u_len[order] = np.concatenate([p[0] for p in parts] + [np.zeros(0, np.int64)])
+    u_off = np.zeros(n, np.int64)
+    u_off[order] = np.cumsum(u_len[order]) - u_len[order]
+    u_cols = np.concatenate([p[1] for p in parts] + [np.zeros(0, np.int32)])
+    u_data = np.concatenate([p[2] for p in parts] + [np.zeros((0, 2, 2))])
     del parts
     if symmetric:
-        l_ptr, l_row, l_src = lower_part(u_ptr, u_cols)
+        l_ptr, l_row, l_src = lower_part(u_off, u_len, u_cols)
     else:
         l_ptr, l_row, l_src = np.zeros(n + 1, np.int64), np.empty(0, np.int32), np.empty(0, np.int64)
-    nnz = 4 * (int(u_ptr[-1]) + int(l_ptr[-1]))
+    start = np.zeros(n + 1, np.int64)  # first scalar entry of block row I (of row 2 I)
+    np.cumsum(4 * (np.diff(l_ptr) + u_len), out=start[1:])
+    nnz = int(start[-1])
     index = np.int32 if max(nnz, 2 * m) < 2**31 else np.int64
-    indptr, indices, values = np.empty(2 * n + 1, index), np.empty(nnz, index), np.empty(nnz)
-    scalar_csr(u_ptr, u_cols, u_data, l_ptr, l_row, l_src, indptr, indices, values)
+    indptr = np.empty(2 * n + 1, index)
+    indptr[0:2 * n:2] = start[:-1]
+    indptr[1:2 * n:2] = (start[:-1] + start[1:]) // 2  # row 2 I + 1: second half of block row I
+    indptr[2 * n] = nnz
+    indices, values = np.empty(nnz, index), np.empty(nnz)
+    rows = _spans(np.linspace(0, n, _n_chunks(threads) + 1).astype(np.int64))
+    _on_threads(lambda r: scalar_rows(r[0], r[1], start, u_off, u_len, u_cols, u_data, l_ptr,
+                                      l_row, l_src, indices, values), rows, threads)
     return csr_array((values, indices, indptr), shape=(2 * n, 2 * m))
 
 
@@ -207,12 +267,70 @@ def _with_enrichment(shape: Shape, w, D, backend) -> csr_array:
             ky = ky + dyT @ sy + dxT @ sxy
         return csr_array(vstack([csr_array(kx), csr_array(ky)], format="csr")[interleave])
 
+    if backend == "numba":
+        def nodal_rows(sig):  # noqa: F811 (the compiled rows instead of the operator products)
+            return _extra_compiled(shape, sig)
+
     sig = stresses(D)
     K_ne = nodal_rows(sig)
     K_en = K_ne.T if np.array_equal(D, D.T) else nodal_rows(stresses(D.T)).T  # E^T D B
     K_ee = csr_array(sum(eps[i].T @ sig[i] for i in range(3)))
-    # all blocks CSR: scipy stacks the index arrays (no COO copy of K_nn on the way)
-    return csr_array(bmat([[K_nn, K_ne], [csr_array(K_en), K_ee]], format="csr"))
+    return _stack_2x2(K_nn, K_ne, csr_array(K_en), K_ee)
+
+
+def _stack_2x2(A: csr_array, B: csr_array, C: csr_array, E: csr_array) -> csr_array:
+    """``[[A, B], [C, E]]`` as one CSR, each entry copied once (``bmat`` stacks the rows of
+    [A, B] and of [C, E], then copies both into one matrix): the entries of a row of A go
+    to the start of the output row, those of B after them (columns shifted by A's)."""
+    nA, rows_top = A.shape[1], A.shape[0]
+    lens = np.concatenate([np.diff(A.indptr) + np.diff(B.indptr),
+                           np.diff(C.indptr) + np.diff(E.indptr)])
+    nnz = int(lens.sum())
+    index = np.int32 if max(nnz, nA + B.shape[1]) < 2**31 else np.int64
+    indptr = np.zeros(len(lens) + 1, np.int64)
+    np.cumsum(lens, out=indptr[1:])
+    indices, data = np.empty(nnz, index), np.empty(nnz)
+    for L, R, start in ((A, B, indptr[:rows_top]), (C, E, indptr[rows_top:-1])):
+        len_l, len_r = np.diff(L.indptr), np.diff(R.indptr)
+        to = np.arange(L.nnz, dtype=np.int64) + np.repeat(start - L.indptr[:-1], len_l)
+        indices[to], data[to] = L.indices, L.data
+        to = np.arange(R.nnz, dtype=np.int64) + np.repeat(start + len_l - R.indptr[:-1], len_r)
+        indices[to], data[to] = R.indices.astype(index) + nA, R.data
+    return csr_array((data, indices, indptr.astype(index)),
+                     shape=(rows_top + C.shape[0], nA + B.shape[1]))
+
+
+def _extra_compiled(shape: Shape, sig: list) -> csr_array:
+    """K_ne (2 n_functions, n_extra) = sum_q B_I^T sigma by the compiled rows
+    (:func:`efgkit.system.kernels.extra_rows`) over the point lists of the functions, rows in
+    chunks on the thread pool; ``sig`` the weighted stresses (xx, yy, xy) of the enrichment
+    unknowns, each (n_points, n_extra). Entries that sum to exactly zero are dropped, as the
+    sparse products of the reference do."""
+    import numba
+
+    from .kernels import extra_rows
+
+    threads = numba.get_num_threads()
+    t_ptr, t_pos, _ = _lists(shape, threads)
+    n, n_extra = shape.n_functions, sig[0].shape[1]
+    csr = [csr_array(a) for a in sig]
+    parts3 = [a for c in csr for a in (c.indptr.astype(np.int64), c.indices.astype(np.int32),
+                                       c.data.astype(float))]
+    order = _row_order(t_ptr, t_pos, shape.ddx.shape[1])
+    work = np.cumsum(np.diff(t_ptr)[order])
+    cuts = np.searchsorted(work, np.linspace(0, work[-1] if n else 0, _n_chunks(threads) + 1)[1:-1])
+    chunks = _spans(np.concatenate([[0], cuts, [n]]))
+    parts = _on_threads(lambda r: extra_rows(order, r[0], r[1], t_ptr, t_pos, shape.ddx,
+                                             shape.ddy, *parts3, n_extra), chunks, threads)
+    lens = np.zeros(n, np.int64)
+    lens[order] = np.concatenate([p[0] for p in parts] + [np.zeros(0, np.int64)])
+    cols = np.concatenate([p[1] for p in parts] + [np.zeros(0, np.int32)])
+    vals = np.concatenate([p[2] for p in parts] + [np.zeros((0, 2))])
+    rows = np.repeat(order, lens[order])  # the rows in the order they were formed
+    K = csr_array((vals.T.ravel(), (np.concatenate([2 * rows, 2 * rows + 1]),
+                                    np.concatenate([cols, cols]))), shape=(2 * n, n_extra))
+    K.eliminate_zeros()
+    return K
 
 
 def _petrov_enriched(trial: Shape, test: Shape, w, D, backend) -> csr_array:
