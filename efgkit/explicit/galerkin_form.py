@@ -42,9 +42,10 @@ cross the J' domain, and the seed's Gaussian ``k = 2`` (seed 002 Eq. 7) in place
 ``k = 1``, MLPG's static default chosen against the near-singular bending mode of MLPG1's
 Petrov-Galerkin system, which a symmetric K does not have. Measured on Freund's K_I(t)
 (``verification/freund.py``, :func:`spacings` there; error of K from J' at h = 0.02 / 0.01
-/ 0.005): k = 2 with diffraction 0.23 / 0.88 / 0.78 %, k = 1 with diffraction 2.95 / 3.88 /
-0.77 %, k = 2 with visibility 1.85 / 1.38 / 1.51 %, k = 1 with visibility (the static
-trial functions) 9.52 / 4.10 / 4.51 %.
+/ 0.005): k = 2 with diffraction 0.52 / 0.13 / 0.070 %, k = 1 with diffraction 1.85 / 0.48 /
+0.53 %, k = 2 with visibility 2.74 / 1.86 / 1.39 %, k = 1 with visibility (the static
+trial functions) 8.80 / 6.45 / 4.22 % (with the face fit of :mod:`efgkit.fracture.face_fit`;
+before it 0.23 / 0.88 / 0.78, 2.95 / 3.88 / 0.77, 1.85 / 1.38 / 1.51 and 9.52 / 4.10 / 4.51 %).
 """
 
 from __future__ import annotations
@@ -137,8 +138,8 @@ def resolve_form(method: MLPG, warn: bool = True, cracked: bool = True,
                  for n, v in kw.items() if n == "weight_k" and method.weight == "gaussian"]
         trial_text = (" Its trial functions take " + " and ".join(said) + " (MLPG."
                       "explicit_crack_rule / explicit_weight_k = 'auto': Freund's K_I(t) from "
-                      "J' within 0.23 / 0.88 / 0.78 % at h = 0.02 / 0.01 / 0.005, against "
-                      "4.10 % at h = 0.01 with k = 1 and the visibility rule, whose jumps along "
+                      "J' within 0.52 / 0.13 / 0.07 % at h = 0.02 / 0.01 / 0.005, against "
+                      "6.4 % at h = 0.01 with k = 1 and the visibility rule, whose jumps along "
                       "the shadow rays cross the J' domain).") if said else ""
         warnings.warn(
             "explicit MLPG: this run steps the symmetric Galerkin form of MLPG's trial "

@@ -166,16 +166,16 @@ class MLPG(MeshlessChoices):
         ``crack_rule``. "auto": with the Galerkin form (``explicit_form`` "galerkin" or
         "auto") "visibility" becomes "diffraction" (the other rules stay): the visibility
         rule's jumps along the shadow rays from the nodes through the tip cross the J'
-        domain (Freund's K_I(t), verification ``freund``, k = 2, h = 0.01: 1.38 % with
-        visibility, 0.88 % with diffraction); with MLPG1: ``crack_rule``.
+        domain (Freund's K_I(t), verification ``freund``, k = 2, h = 0.01: 1.86 % with
+        visibility, 0.13 % with diffraction); with MLPG1: ``crack_rule``.
         "same": ``crack_rule``. A rule name: that rule
         (:func:`efgkit.explicit.galerkin_form.resolve_form`; docs/theory.md, "Explicit MLPG").
     explicit_weight_k : "auto", "same" or int > 0
         Gaussian exponent k of explicit runs only; static solves use ``weight_k``. "auto":
         with the Galerkin form, k = 1 (MLPG's static default, chosen against the
         near-singular bending mode of MLPG1's Petrov-Galerkin system, which a symmetric K
-        has not) becomes the seed's k = 2 (Freund, diffraction rule: 0.23 / 0.88 / 0.78 % at
-        h = 0.02 / 0.01 / 0.005 against 2.95 / 3.88 / 0.77 % with k = 1); other values stay; with
+        has not) becomes the seed's k = 2 (Freund, diffraction rule: 0.52 / 0.13 / 0.070 % at
+        h = 0.02 / 0.01 / 0.005 against 1.85 / 0.48 / 0.53 % with k = 1); other values stay; with
         MLPG1: ``weight_k``. "same": ``weight_k``. An integer: that k.
 
     Examples

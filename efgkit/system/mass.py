@@ -64,8 +64,8 @@ def row_sum_mass(shape: Shape, w: np.ndarray, rho: float, area: float | None = N
         ``M^-1 M_C`` on those rows by 1 (Gershgorin) and keeps the enrichment from lowering
         the critical step. Measured on ``verification/freund.py`` (spacing 0.01): with
         PU enrichment the critical step goes from 0.0023 to 0.0118 (the unenriched one) and
-        the error of K_I(t) from 4.4 % to 0.88 %; with extrinsic MLS from 0.0088 to 0.0118
-        and from 0.44 % to 0.61 %.
+        the error of K_I(t) from J' from 3.7 % to 0.74 %; with extrinsic MLS from 0.0088 to
+        0.0118 and from 0.37 % to 0.62 % (the freund record).
 
     Raises
     ------
