@@ -95,9 +95,10 @@ class Approximation:
         near = np.zeros(len(x), bool)
         if self.lines is not None:  # only points some support can reach a crack from
             pts = points_near(self.lines, x, float(self.nodes.radius.max()))
-            reach = np.where(nb.mask[pts], self.nodes.radius[nb.idx[pts]], 0.0).max(axis=1,
-                                                                                     initial=0.0)
-            near[pts] = self.lines.distance(x[pts]) < reach
+            if len(pts):
+                reach = np.where(nb.mask[pts], self.nodes.radius[nb.idx[pts]], 0.0).max(
+                    axis=1, initial=0.0)
+                near[pts] = self.lines.distance(x[pts]) < reach
         if self.holes is not None:
             reach = np.where(nb.mask, self.nodes.radius[nb.idx], 0.0).max(axis=1)
             near |= self.holes.distance(x) < reach
