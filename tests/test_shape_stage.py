@@ -164,3 +164,20 @@ def test_linear_kernel_gives_zeros_at_a_singular_point():
     assert rcond[1] > 0 and phi[1].sum() == pytest.approx(1.0, abs=1e-14)  # partition of unity
     np.testing.assert_allclose(phi[1] @ nx, x[1], atol=1e-14)  # linear reproduction
     assert abs(gx[1].sum()) < 1e-13 and abs(gy[1].sum()) < 1e-13
+
+
+def test_operators_share_one_int32_pattern():
+    """phi, dx, dy hold the same index arrays (formed once), int32, and the entries of the
+    padded arrays at the valid neighbours, also with rows cleared by a crack rule."""
+    ap, x = _case("edge", None, n_points=800)
+    sh = _nodal(ap, x)
+    nb = sh.neighbours
+    assert not nb.mask.all()  # padded rows and the crack's cleared pairs
+    for op, vals in ((sh.phi, sh.values), (sh.dx, sh.ddx), (sh.dy, sh.ddy)):
+        assert op.indices.dtype == op.indptr.dtype == np.int32 and op.has_sorted_indices
+        dense = np.zeros(op.shape)
+        rows, cols = np.nonzero(nb.mask)
+        dense[rows, nb.idx[rows, cols]] = vals[rows, cols]
+        np.testing.assert_array_equal(op.toarray(), dense)
+    assert np.shares_memory(sh.phi.indices, sh.dx.indices)
+    assert np.shares_memory(sh.dx.indices, sh.dy.indices)
