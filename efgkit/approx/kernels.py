@@ -223,8 +223,8 @@ def mls_linear(x, nx, radius, idx, mask, wid, beta, derivatives, wg, wgx, wgy):
     and the pair weights of the first pass are kept in the output arrays until the
     output pass overwrites them (no allocation per point, no second weight evaluation), and
     the support scale is found in the moment pass (the sums are scaled after it): together
-    about 40 % less time than two weight evaluations and a scale pass (2.4e5 points of the
-    cracked plate, docs/performance.md).
+    15-30 % less time than two weight evaluations and a scale pass (2.4e5 points of the
+    cracked plate, 2 and 1 threads on a shared machine, docs/performance.md).
     """
     n, k = idx.shape
     phi = np.zeros((n, k))
