@@ -19,13 +19,15 @@ that is exact for it:
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
+from ..jit import resolve_backend
 from ..nodes import NodeCloud
 from ..search import BoxGrid, Neighbours, find_neighbours
 from .crack_prefilter import points_near
-from .crack_rules import CrackLines, CrackRule, crack_distances, padded_weights, pair_arrays
+from .crack_rules import CrackLines, CrackRule, crack_distances, padded_weights, pair_arrays, sight_positions
 from .enrichment import INTRINSIC, Enrichment, blend_intrinsic, extra_columns
 from .hole_rules import Holes, hole_distances
 from .mls import mls_shape
@@ -80,10 +82,10 @@ class Approximation:
     def n_dofs(self) -> int:
         return 2 * self.nodes.n + (0 if self.enrichment is None else self.enrichment.n_extra)
 
-    def _mls(self, x, nb, derivatives, weights=None) -> Shape:
+    def _mls(self, x, nb, derivatives, weights=None, backend="auto") -> Shape:
         return mls_shape(x, self.nodes, self.weight, self.basis, d_max=self.d_max, alpha=self.alpha,
                          derivatives=derivatives, neighbours=nb, interpolate=self.interpolate,
-                         weights=weights, k=self.k)
+                         weights=weights, k=self.k, backend=backend)
 
     def cracked_rows(self, x: np.ndarray, nb: Neighbours) -> np.ndarray:
         """Points whose neighbours' supports reach a crack or a ruled hole (the only ones a
@@ -93,13 +95,22 @@ class Approximation:
         near = np.zeros(len(x), bool)
         if self.lines is not None:  # only points some support can reach a crack from
             pts = points_near(self.lines, x, float(self.nodes.radius.max()))
-            reach = np.where(nb.mask[pts], self.nodes.radius[nb.idx[pts]], 0.0).max(axis=1,
-                                                                                     initial=0.0)
-            near[pts] = self.lines.distance(x[pts]) < reach
+            if len(pts):
+                reach = np.where(nb.mask[pts], self.nodes.radius[nb.idx[pts]], 0.0).max(
+                    axis=1, initial=0.0)
+                near[pts] = self.lines.distance(x[pts]) < reach
         if self.holes is not None:
             reach = np.where(nb.mask, self.nodes.radius[nb.idx], 0.0).max(axis=1)
             near |= self.holes.distance(x) < reach
         return np.flatnonzero(near)
+
+    @cached_property
+    def node_sight(self) -> np.ndarray:
+        """Where each node looks from in the crack tests (:func:`~efgkit.approx.crack_rules.
+        sight_positions`), shape (n_nodes, 2): formed once, gathered per pair."""
+        n = self.nodes.n
+        return sight_positions(self.nodes.x, self.nodes.radius, np.arange(n), self.nodes,
+                               self.lines)
 
     def sight_weights(self, x: np.ndarray, nb: Neighbours):
         """Pair weights at ``x (n, 2)`` under the crack and hole rules: (mask, w, dwx, dwy),
@@ -107,7 +118,8 @@ class Approximation:
         wfun = weight_function(self.weight, self.d_max, self.alpha, self.k)
         rows, cols, I, xq, xn, dm = pair_arrays(x, self.nodes, nb)
         if self.lines is not None:
-            cut, d, dd = crack_distances(xq, xn, dm, I, self.nodes, self.lines, self.rule)
+            cut, d, dd = crack_distances(xq, xn, dm, I, self.nodes, self.lines, self.rule,
+                                         sight=self.node_sight[I])
         else:
             diff = xq - xn
             d = np.hypot(*diff.T)
@@ -168,7 +180,10 @@ class Approximation:
             sp = self._mls(x, nb, derivatives)
             vals = [sp.values, sp.ddx, sp.ddy]
             cw = self.sight_weights(x[rows], nb.subset(rows))
-            sc = self._mls(x[rows], nb.subset(rows), derivatives, weights=cw)
+            # the rows near a crack take the kernel of all the points (compiled for those
+            # already), not the numpy path their smaller number would choose
+            sc = self._mls(x[rows], nb.subset(rows), derivatives, weights=cw,
+                           backend=resolve_backend("auto", len(x)))
             mask[rows] = cw[0]
             for v, r in zip(vals, (sc.values, sc.ddx, sc.ddy), strict=True):
                 if v is not None:

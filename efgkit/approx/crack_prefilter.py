@@ -32,7 +32,12 @@ def points_near(lines: CrackLines, x: np.ndarray, radius: float) -> np.ndarray:
     runs = lines.chunks()
     lo = np.min([b[1] for b in runs], axis=0) - radius  # all runs first: one cheap test
     hi = np.max([b[2] for b in runs], axis=0) + radius
-    pts = np.flatnonzero(np.all((x > lo) & (x < hi), axis=1))
+    # column by column: numpy's reductions along the short axis of (n, 2) are 10x slower
+    x0, x1 = x[:, 0], x[:, 1]
+    if len(x) == 0 or x0.min() >= hi[0] or x0.max() <= lo[0] or x1.min() >= hi[1] \
+            or x1.max() <= lo[1]:
+        return np.zeros(0, np.int64)  # a chunk of points away from every crack
+    pts = np.flatnonzero((x0 > lo[0]) & (x0 < hi[0]) & (x1 > lo[1]) & (x1 < hi[1]))
     near = np.zeros(len(pts), bool)
     for _, a, b in runs:  # about sqrt(segments) runs
         gap = np.maximum(np.maximum(a - x[pts], x[pts] - b), 0.0)

@@ -57,7 +57,7 @@ from ..search import Neighbours
 from .crack_lines import CrackLines
 
 __all__ = ["CRACK_RULES", "CrackLines", "CrackRule", "crack_distances", "crack_weights",
-           "pair_arrays", "padded_weights", "segment_candidates", "wrap_distance"]
+           "pair_arrays", "padded_weights", "segment_candidates", "sight_positions", "wrap_distance"]
 
 TIP_SNAP = 1e-7  # nodes closer than this fraction of their support radius to a tip are at it
 SIGHT_OFFSET = 1e-7  # split nodes look from this fraction of their support radius off the crack
@@ -239,13 +239,16 @@ def sight_positions(xn, dm, I, nodes: NodeCloud, lines: CrackLines) -> np.ndarra
     return sight
 
 
-def crack_distances(xq, xn, dm, I, nodes: NodeCloud, lines: CrackLines, rule: CrackRule):
+def crack_distances(xq, xn, dm, I, nodes: NodeCloud, lines: CrackLines, rule: CrackRule,
+                    sight=None):
     """Rule-modified distances of the pairs (x_q, x_I): cut (P,), d (P,), dd/dx (P, 2).
 
     ``xq, xn (P, 2)`` are the pairs' points and nodes, ``dm (P,)`` the support
-    radii, ``I (P,)`` the node indices (for the split-node faces).
+    radii, ``I (P,)`` the node indices (for the split-node faces); ``sight (P, 2)``, optional:
+    the nodes' :func:`sight_positions` (a node's own, so a caller may form them once per node).
+    Only the pairs that cross a crack go through the rule's formulas.
     """
-    sight = sight_positions(xn, dm, I, nodes, lines)
+    sight = sight_positions(xn, dm, I, nodes, lines) if sight is None else sight
     n_cracks = len(lines.ends)
     hits = np.zeros((len(I), n_cracks), np.int64)
     sc = np.full(len(I), np.inf)  # transparency: arc distance of the crossing from the tip
@@ -272,25 +275,32 @@ def crack_distances(xq, xn, dm, I, nodes: NodeCloud, lines: CrackLines, rule: Cr
     diff = xq - xn
     s0 = np.hypot(*diff.T)
     ds0 = diff / np.where(s0 > 0, s0, 1.0)[:, None]
-    d, dd = s0.copy(), ds0.copy()
+    d, dd = s0, ds0
     cut = n_hit > 0
+    h = np.flatnonzero(cut)  # the rules change only the pairs that cross a crack (a few)
+    if len(h) == 0:
+        return cut, d, dd
+    xq, xn, sight, dm, hits, n_hit = xq[h], xn[h], sight[h], dm[h], hits[h], n_hit[h]
+    s0h, ds0h = s0[h], ds0[h]
+    dh, ddh, cuth = s0h, ds0h, np.ones(len(h), bool)
     if rule.name == "see_through":
         for k in range(n_cracks):
             for end in np.flatnonzero(lines.is_tip[k]):
                 inside = np.hypot(*(xn - lines.ends[k, end]).T) < dm
-                cut &= ~((hits[:, k] > 0) & inside & (n_hit == hits[:, k]))
+                cuth &= ~((hits[:, k] > 0) & inside & (n_hit == hits[:, k]))
     elif rule.name == "transparency":
         sbar = rule.kappa * rule.spacing
-        one = (n_hit == 1) & (sc < sbar)
-        ratio = np.where(one, sc / sbar, 0.0)
-        d = np.where(one, s0 + dm * ratio**rule.power, d)
+        sch, dsch = sc[h], dsc[h]
+        one = (n_hit == 1) & (sch < sbar)
+        ratio = np.where(one, sch / sbar, 0.0)
+        dh = np.where(one, s0h + dm * ratio**rule.power, dh)
         grad = rule.power * dm * np.where(one, ratio ** (rule.power - 1) / sbar, 0.0)
-        dd = np.where(one[:, None], ds0 + grad[:, None] * dsc, dd)
-        cut &= ~one
+        ddh = np.where(one[:, None], ds0h + grad[:, None] * dsch, ddh)
+        cuth &= ~one
     elif rule.name == "diffraction":  # around the tip of the crossed crack
         single = n_hit == 1
         k = np.argmax(hits, axis=1)
-        best = np.full(len(I), np.inf)
+        best = np.full(len(h), np.inf)
         xc = np.zeros_like(xq)
         for end in (0, 1):
             tip = lines.ends[k, end]
@@ -299,8 +309,10 @@ def crack_distances(xq, xn, dm, I, nodes: NodeCloud, lines: CrackLines, rule: Cr
             best = np.where(take, path, best)
             xc = np.where(take[:, None], tip, xc)
         ok = single & np.isfinite(best)
-        d, dd = wrap_distance(d, dd, xq, xn, xc, s0, ds0, rule.power, ok)
-        cut &= ~ok
+        dh, ddh = wrap_distance(dh, ddh, xq, xn, xc, s0h, ds0h, rule.power, ok)
+        cuth &= ~ok
+    d, dd = s0.copy(), ds0.copy()
+    d[h], dd[h], cut[h] = dh, ddh, cuth
     return cut, d, dd
 
 

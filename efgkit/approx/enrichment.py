@@ -30,10 +30,12 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.sparse import csr_array
 
+from ..jit import resolve_backend
 from ..methods.efg import INTRINSIC
 from .bases import basis as poly_basis
 from .bases import basis_origin_gradient, basis_size
 from .crack_rules import TIP_SNAP
+from .extrinsic import KEYS, column_operators, compiled_fields
 from .mls import RCOND_MIN, SingularMomentMatrix, moment_shape
 from .shape import Extra, Shape
 from .tip_functions import TipGeometry, branch_functions, ramp, tip_coordinates, williams_modes
@@ -250,18 +252,29 @@ def interpolant(vals, nb, rows, qn, chunk: int = 65536) -> np.ndarray:
     return out
 
 
-def extra_columns(x, nodal: Shape, enr: Enrichment, derivatives: bool, scale: float) -> Extra:
+def extra_columns(x, nodal: Shape, enr: Enrichment, derivatives: bool, scale: float,
+                  backend: str = "auto") -> Extra:
     """The enrichment unknowns' component operators at points ``x (n, 2)``.
 
     ``nodal`` holds the nodal shape functions at x; ``scale`` is a length (the
-    spacing) for the at-the-tip check.
+    spacing) for the at-the-tip check. ``backend`` ("auto", "numba", "numpy"): the extrinsic
+    MLS columns by the compiled kernel (:mod:`efgkit.approx.extrinsic`; "auto": from
+    :data:`efgkit.jit.COMPILED_MIN` points on) or in numpy; they agree to rounding.
     """
     n = len(x)
     ne = enr.n_extra
     nb, values, ddx, ddy = nodal.neighbours, nodal.values, nodal.ddx, nodal.ddy
     if enr.kind == "extrinsic_mls":
-        parts = {key: ([], [], []) for key in ("ux", "uy", "gxx", "gxy", "gyx", "gyy")}
+        keys = KEYS if derivatives else KEYS[:2]
+        compiled = resolve_backend(backend, n) == "numba"
+        per_tip = []  # (rows, out (len(keys), m, 2)) of every tip
         for t, g in enumerate(enr.tips):
+            if compiled:  # the same formulas point by point (efgkit.approx.extrinsic_kernel)
+                rows, out, r = compiled_fields(x, nb, values, ddx, ddy, enr, t, derivatives)
+                if derivatives:
+                    _check_off_tip(x[rows], r, g, scale)
+                per_tip.append((rows, out))
+                continue
             r, th, gr, gt = tip_coordinates(x, g)
             rows = np.arange(n)
             if np.isfinite(enr.r2):  # psi vanishes where neither x nor its nodes are ramped
@@ -270,8 +283,7 @@ def extra_columns(x, nodal: Shape, enr: Enrichment, derivatives: bool, scale: fl
                 rows = np.flatnonzero((r < enr.r2) | near_node.any(axis=1))
             # minus the MLS interpolant of Q (Eq. 44b): sum over the neighbours of phi_I Q(x_I)
             qn = enr.node_q[t].reshape(-1, 4)  # (n_nodes, mode * comp)
-            keys = ("ux", "uy", "gxx", "gxy", "gyx", "gyy") if derivatives else ("ux", "uy")
-            out = {key: np.empty((len(rows), 2)) for key in keys}  # (row, mode)
+            out = np.empty((len(keys), len(rows), 2))  # (key, row, mode)
             for s in range(0, len(rows), EXTRA_CHUNK):  # the modes' temporaries a chunk at a time
                 rr = rows[s:s + EXTRA_CHUNK]
                 if derivatives:
@@ -283,20 +295,14 @@ def extra_columns(x, nodal: Shape, enr: Enrichment, derivatives: bool, scale: fl
                     dQ = R[:, None, None, None] * dQ + Q[..., None] * dR[:, None, None, :]
                     Q = R[:, None, None] * Q
                 Q = Q - interpolant(values, nb, rr, qn).reshape(-1, 2, 2)
-                out["ux"][s:s + EXTRA_CHUNK], out["uy"][s:s + EXTRA_CHUNK] = Q[..., 0], Q[..., 1]
+                out[0, s:s + EXTRA_CHUNK], out[1, s:s + EXTRA_CHUNK] = Q[..., 0], Q[..., 1]
                 if derivatives:
                     dQ = dQ - np.stack([interpolant(v, nb, rr, qn).reshape(-1, 2, 2)
                                         for v in (ddx, ddy)], axis=-1)
-                    for key, (i, j) in (("gxx", (0, 0)), ("gxy", (0, 1)), ("gyx", (1, 0)),
-                                        ("gyy", (1, 1))):
-                        out[key][s:s + EXTRA_CHUNK] = dQ[:, :, i, j]
-            for mode in (0, 1):
-                col = np.full(len(rows), 2 * t + mode)
-                for key, v in out.items():
-                    parts[key][0].append(rows)
-                    parts[key][1].append(col)
-                    parts[key][2].append(v[:, mode])
-        ops = {k: _ops(n, *(np.concatenate(p) for p in v), ne) for k, v in parts.items() if v[0]}
+                    for i, (c, d) in enumerate(((0, 0), (0, 1), (1, 0), (1, 1))):
+                        out[2 + i, s:s + EXTRA_CHUNK] = dQ[:, :, c, d]  # gxx, gxy, gyx, gyy
+            per_tip.append((rows, out))
+        ops = column_operators(n, ne, per_tip, keys)
     else:  # PU: functions phi_I (q_i(x) - q_i(x_I)) of the enriched nodes
         where = np.full(max(int(nb.idx.max(initial=0)), int(enr.pu_nodes.max(initial=0))) + 1, -1)
         where[enr.pu_nodes] = np.arange(len(enr.pu_nodes))

@@ -91,15 +91,23 @@ class Shape:
                              "(Shape.gradients_only); evaluate them with Discretization.shape_at")
         if vals is None:
             raise ValueError("derivatives were not computed: call mls_shape(..., derivatives=True)")
+        indptr, cols, full = self._pattern
+        data = vals.ravel() if full else vals[self.neighbours.mask]
+        return csr_array((data, cols, indptr), shape=self.shape)
+
+    @cached_property
+    def _pattern(self) -> tuple[np.ndarray, np.ndarray, bool]:
+        """(indptr, indices, every row full) of :attr:`phi`, :attr:`dx`, :attr:`dy`, formed once
+        and shared by the three (int32 when the sizes allow: scipy would otherwise widen the
+        int32 neighbour indices to the int64 of the index pointers, a copy per operator)."""
         nb = self.neighbours
         counts = nb.counts
-        indptr = np.zeros(len(counts) + 1, dtype=np.int64)
+        it = np.int32 if nb.idx.size < 2**31 and self.n_functions < 2**31 else np.int64
+        indptr = np.zeros(len(counts) + 1, dtype=it)
         np.cumsum(counts, out=indptr[1:])
-        if counts.min(initial=0) == nb.idx.shape[1]:  # every row full: no masking needed
-            data, cols = vals.ravel(), nb.idx.ravel()
-        else:
-            data, cols = vals[nb.mask], nb.idx[nb.mask]
-        return csr_array((data, cols, indptr), shape=self.shape)
+        full = bool(counts.min(initial=0) == nb.idx.shape[1])  # every row full: no masking
+        cols = nb.idx.ravel() if full else nb.idx[nb.mask]
+        return indptr, cols.astype(it, copy=False), full
 
     @cached_property
     def phi(self) -> csr_array:

@@ -27,7 +27,8 @@ import numpy as np
 
 from ..problem.crack import Crack, Tip
 
-__all__ = ["TipGeometry", "tip_coordinates", "branch_functions", "williams_modes", "ramp"]
+__all__ = ["TipGeometry", "tip_coordinates", "branch_functions", "williams_modes",
+           "williams_matrix", "ramp"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -162,14 +163,20 @@ def williams_modes(F, dF, geom: TipGeometry, mu: float, kappa: float):
     dQ : ndarray (n, 2, 2, 2)
         ``dQ[:, mode, comp, dir]`` = d Q_comp / d x_dir.
     """
+    Mg = williams_matrix(geom, mu, kappa)
+    Q = np.einsum("mcf,nf->nmc", Mg, F)
+    dQ = np.einsum("mcf,ndf->nmcd", Mg, dF)
+    return Q, dQ
+
+
+def williams_matrix(geom: TipGeometry, mu: float, kappa: float) -> np.ndarray:
+    """The coefficients of :func:`williams_modes`: ``Q[mode, comp] = Mg[mode, comp] . F``
+    in global components, shape (2, 2, 4) (mode, comp, branch function)."""
     c = 1.0 / (2.0 * mu * math.sqrt(2.0 * math.pi))
     M = c * np.array([[[kappa - 1, 0, 1, 0], [0, kappa + 1, 0, -1]],
                       [[0, kappa + 1, 0, 1], [-(kappa - 1), 0, 1, 0]]])  # (mode, comp_loc, 4)
     R = geom.tip.rotation  # rows e1, e2: global = R^T local
-    Mg = np.einsum("lc,mlf->mcf", R, M)  # (mode, comp_global, 4)
-    Q = np.einsum("mcf,nf->nmc", Mg, F)
-    dQ = np.einsum("mcf,ndf->nmcd", Mg, dF)
-    return Q, dQ
+    return np.einsum("lc,mlf->mcf", R, M)  # (mode, comp_global, 4)
 
 
 def ramp(r, grad_r, r1: float, r2: float, kind: str = "quintic"):
