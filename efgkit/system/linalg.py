@@ -213,7 +213,8 @@ def solve(system: LinearSystem, solver: str = "auto", near_nullspace=None,
         "direct": SuperLU. "amg": CG with a multigrid preconditioner: with
         ``auxiliary``, the auxiliary-space preconditioner of
         :mod:`efgkit.system.auxiliary` (LU on the boundary rows, a Chebyshev map and
-        one smoothed-aggregation V-cycle on a P1 stiffness of the nodes), else
+        one smoothed-aggregation V-cycle on a P1 stiffness of the nodes between two
+        damped Jacobi steps, in a symmetric block Gauss-Seidel sweep), else
         one V-cycle of smoothed aggregation on the system matrix; a Lagrange
         saddle point takes Uzawa steps on the augmented Lagrangian, each a CG
         solve with that preconditioner (:func:`_augmented_lagrangian`). "auto"
