@@ -4,6 +4,11 @@ docs/performance.md.
 
 Run:  PYTHONPATH=. python benchmarks/solve_stage.py --nodes 2e4 1e5 --rounds 2
       PYTHONPATH=. python benchmarks/solve_stage.py --nodes 1e5 --bcs lagrange variational
+      PYTHONPATH=. python benchmarks/solve_stage.py --end-to-end --nodes 2e4 1e5 --rounds 1
+
+``--end-to-end``: whole solves instead, each in a fresh process as benchmarks/scaling.py runs
+them (``scaling.child``: warm-up, then the timed ``solve``), before and after taking turns;
+prints one JSON line per run (wall time, stages, CG statistics, K_I) and writes nothing.
 
 The plate is examples/edge_crack.toml with its spacings divided by a factor
 (benchmarks/scaling.py; Lagrange multipliers as in the example). Per size one
@@ -122,6 +127,23 @@ def markdown(res: dict, cmd: str) -> str:
     return "\n".join(lines)
 
 
+def end_to_end(n_nodes: float, flag: bool) -> dict:
+    """``scaling.child`` at about ``n_nodes`` nodes in a fresh process with
+    ``auxiliary.SMOOTHER = flag``."""
+    import json
+    import subprocess
+
+    factor = math.sqrt(n_nodes / 1170)  # scaling.BASE_NODES
+    code = (f"import json, sys; sys.path.insert(0, {str(ROOT / 'benchmarks')!r}); import scaling; "
+            f"from efgkit.system import auxiliary; auxiliary.SMOOTHER = {flag!r}; "
+            f"print(json.dumps(scaling.child({factor!r}, {{'bc': 'lagrange'}})))")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          env={**__import__("os").environ, "PYTHONPATH": str(ROOT)})
+    if proc.returncode:
+        return {"error": proc.stderr.strip().splitlines()[-1]}
+    return json.loads(proc.stdout.strip().splitlines()[-1])
+
+
 def _ratios(after: list, before: list, key: str) -> str:
     """Median (bold) and per-round after / before ratios of ``key``."""
     q = [a[key] / b[key] for a, b in zip(after, before, strict=False)]
@@ -135,7 +157,21 @@ def main(argv=None) -> dict:
     ap.add_argument("--bcs", nargs="+", default=["lagrange"],
                     choices=("lagrange", "variational", "penalty"))
     ap.add_argument("--no-write", action="store_true")
+    ap.add_argument("--end-to-end", action="store_true")
     args = ap.parse_args(argv)
+    if args.end_to_end:
+        import json
+
+        for _ in range(args.rounds):
+            for n in args.nodes:
+                for name, flag in VARIANTS.items():
+                    r = end_to_end(n, flag)
+                    keep = ("n_nodes", "wall_s", "stages_s", "KI", "KII", "error")
+                    out = {k: r[k] for k in keep if k in r}
+                    out["solver"] = {k: r.get("solver", {}).get(k) for k in
+                                     ("iterations", "uzawa_steps", "setup_time", "cg_time")}
+                    print(json.dumps({"variant": name, **out}), flush=True)
+        return {}
     res = {"machine": f"{platform.machine()}, {platform.python_implementation()} "
                       f"{platform.python_version()}", "date": time.strftime("%Y-%m-%d"),
            "sizes": [run(n, args.rounds, args.bcs) for n in args.nodes]}

@@ -90,3 +90,21 @@ def test_jacobi_spectral_radius_of_a_subset():
     exact = np.linalg.eigvalsh(d[:, None] * Arr * d[None, :]).max()
     est = jacobi_spectral_radius(A, rows)
     assert 0.98 * exact <= est <= exact * (1 + 1e-12)
+
+
+def test_solve_stage_benchmark_runs():
+    """benchmarks/solve_stage.py (smoke test at a size SuperLU solves: both variants give the
+    same K_I; the table has a row per variant and the per-round ratios)."""
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / "solve_stage.py"
+    spec = importlib.util.spec_from_file_location("bench_solve_stage", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    res = mod.main(["--nodes", "1500", "--rounds", "1", "--no-write"])
+    runs = res["sizes"][0]["runs"]
+    assert set(runs) == {"lagrange before", "lagrange after"}
+    assert runs["lagrange before"][0]["KI"] == pytest.approx(runs["lagrange after"][0]["KI"], rel=1e-9)
+    md = mod.markdown(res, "cmd")
+    assert md.count("| lagrange |") == 2 and "**" in md
