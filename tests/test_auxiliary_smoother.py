@@ -108,3 +108,25 @@ def test_solve_stage_benchmark_runs():
     assert runs["lagrange before"][0]["KI"] == pytest.approx(runs["lagrange after"][0]["KI"], rel=1e-9)
     md = mod.markdown(res, "cmd")
     assert md.count("| lagrange |") == 2 and "**" in md
+
+
+def test_iterative_solve_runs_on_one_blas_thread(monkeypatch):
+    """CG (and the preconditioner's set-up) run with one BLAS thread (linalg.single_blas_thread:
+    OpenBLAS's spinning threads doubled the CPU time of the solve on the shared machine); the
+    caller's setting is restored afterwards."""
+    from threadpoolctl import threadpool_info
+
+    from efgkit.system import linalg
+
+    seen = []
+    cg = linalg.preconditioned_cg
+
+    def spy(*args, **kwargs):
+        seen.append(max(d["num_threads"] for d in threadpool_info() if d["user_api"] == "blas"))
+        return cg(*args, **kwargs)
+
+    monkeypatch.setattr(linalg, "preconditioned_cg", spy)
+    before = [d["num_threads"] for d in threadpool_info()]
+    sol = solve(_cracked_plate(), EFG(spacing=1.0, bc="lagrange", solver="amg"))
+    assert sol.info["converged"] and seen and set(seen) == {1}
+    assert [d["num_threads"] for d in threadpool_info()] == before

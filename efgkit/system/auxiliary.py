@@ -34,10 +34,11 @@ block Gauss-Seidel): ``z_L = A_LL^-1 r_L``, ``z_I = B_I (r_I - A_IL z_L)``,
 positive definite: with ``X = I - W A_II`` (A-norm at most 1 for ``omega
 lambda_max <= 2``) and ``Y V Y^T`` SPD, ``v^T A (I - B_I A) v = (X v)^T A (I -
 Y V Y^T A) (X v) < v^T A v`` for ``v != 0``, and the exact layer solves are
-A-orthogonal projections; so it drives CG on the EFG system. On the cracked plate of 97k nodes (Lagrange, 2 Uzawa steps) this takes
-97-100 CG iterations against 173-176 of the additive form without the Jacobi
-steps (degree 8), for about 1.2 times the work per iteration (107 against 90
-ms): the solve stage in 0.6-0.8 of the time (docs/performance.md, solve_stage).
+A-orthogonal projections; so it drives CG on the EFG system. On the cracked
+plate of 97k nodes (Lagrange, 2 Uzawa steps) this takes 97-100 CG iterations
+against 173-176 of the additive form without the Jacobi steps (degree 8), for
+about 1.2 times the work per iteration (107 against 90 ms): the solve stage in
+0.6-0.8 of the time (docs/performance.md, solve_stage).
 """
 
 from __future__ import annotations
