@@ -17,7 +17,8 @@ streamed from 2e5 points); then the variants take turns (before, after, before, 
 and each ``solve(scene, method, disc, K, f)`` is timed: its "solve" stage (the auxiliary
 space, the preconditioner's set-up, CG and the Uzawa steps, the coefficients) and
 "constraints". "before" is ``auxiliary.SMOOTHER = False``: the additive preconditioner of
-degree 8 without Jacobi steps, the code before this change. The after / before ratio of the
+degree 8 without Jacobi steps, the code before this change (and, from the commit that
+added it, ``linalg.SINGLE_BLAS_THREAD = False``: BLAS on its default threads). The after / before ratio of the
 solve stage is taken per round (the machine is shared: its load moves between rounds).
 """
 
@@ -60,18 +61,18 @@ def build(n_nodes: float):
 
 def run(n_nodes: float, rounds: int, bcs) -> dict:
     from efgkit.static import solve
-    from efgkit.system import auxiliary
+    from efgkit.system import auxiliary, linalg
 
     t0 = time.perf_counter()
     scene, method, disc, K, f = build(n_nodes)
     out = {"n_nodes": disc.nodes.n, "n_dofs": disc.n_dofs, "n_points": disc.points.n,
            "build_s": time.perf_counter() - t0, "runs": {}}
-    keep = auxiliary.SMOOTHER
+    keep = auxiliary.SMOOTHER, linalg.SINGLE_BLAS_THREAD
     try:
         for _ in range(rounds):
             for bc in bcs:
                 for name, flag in VARIANTS.items():
-                    auxiliary.SMOOTHER = flag
+                    auxiliary.SMOOTHER = linalg.SINGLE_BLAS_THREAD = flag
                     c0 = time.process_time()
                     sol = solve(scene, replace(method, bc=bc), disc, K, f)
                     cpu = time.process_time() - c0
@@ -87,7 +88,7 @@ def run(n_nodes: float, rounds: int, bcs) -> dict:
                          "KI": tip.KI, "KII": tip.KII})
                     print(n_nodes, bc, name, out["runs"][f"{bc} {name}"][-1], flush=True)
     finally:
-        auxiliary.SMOOTHER = keep
+        auxiliary.SMOOTHER, linalg.SINGLE_BLAS_THREAD = keep
     return out
 
 
@@ -129,13 +130,15 @@ def markdown(res: dict, cmd: str) -> str:
 
 def end_to_end(n_nodes: float, flag: bool) -> dict:
     """``scaling.child`` at about ``n_nodes`` nodes in a fresh process with
-    ``auxiliary.SMOOTHER = flag``."""
+    ``auxiliary.SMOOTHER`` and ``linalg.SINGLE_BLAS_THREAD`` set to ``flag`` (False: the code
+    before both changes)."""
     import json
     import subprocess
 
     factor = math.sqrt(n_nodes / 1170)  # scaling.BASE_NODES
     code = (f"import json, sys; sys.path.insert(0, {str(ROOT / 'benchmarks')!r}); import scaling; "
-            f"from efgkit.system import auxiliary; auxiliary.SMOOTHER = {flag!r}; "
+            f"from efgkit.system import auxiliary, linalg; auxiliary.SMOOTHER = {flag!r}; "
+            f"linalg.SINGLE_BLAS_THREAD = {flag!r}; "
             f"print(json.dumps(scaling.child({factor!r}, {{'bc': 'lagrange'}})))")
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           env={**__import__("os").environ, "PYTHONPATH": str(ROOT)})
