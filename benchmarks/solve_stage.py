@@ -16,10 +16,11 @@ discretisation, stiffness and load vector (built as ``efgkit.static.solve`` buil
 streamed from 2e5 points); then the variants take turns (before, after, before, after, ...)
 and each ``solve(scene, method, disc, K, f)`` is timed: its "solve" stage (the auxiliary
 space, the preconditioner's set-up, CG and the Uzawa steps, the coefficients) and
-"constraints". "before" is ``auxiliary.SMOOTHER = False``: the additive preconditioner of
-degree 8 without Jacobi steps, the code before this change (and, from the commit that
-added it, ``linalg.SINGLE_BLAS_THREAD = False``: BLAS on its default threads). The after / before ratio of the
-solve stage is taken per round (the machine is shared: its load moves between rounds).
+"constraints", and the process's CPU time over both (a waiting process accrues none).
+"before" is ``auxiliary.SMOOTHER = False``: the additive preconditioner of degree 8 without
+Jacobi steps, the code before this change (and, from the commit that added it,
+``linalg.SINGLE_BLAS_THREAD = False``: BLAS on its default threads). The after / before ratio
+of the solve stage is taken per round (the machine is shared: its load moves between rounds).
 """
 
 from __future__ import annotations
