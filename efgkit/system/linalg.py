@@ -19,6 +19,7 @@ CG run: :mod:`efgkit.system.conjugate_gradient`) must also stay below ``ERROR_FA
 
 from __future__ import annotations
 
+import contextlib
 import time
 import warnings
 
@@ -42,6 +43,7 @@ AUTO_AMG_THRESHOLD = 20_000  # unknowns above which "auto" uses CG for SPD syste
 # of K + rho P (~1e-10 relative) well below rtol.
 AUGMENTATION = 1e6
 MAX_UZAWA_STEPS = 20
+SINGLE_BLAS_THREAD = True  # the iterative solves run with one BLAS thread (single_blas_thread)
 # An iterative answer is accepted if the bound on its relative energy error (energy_error_bound) is at most
 # ERROR_FACTOR * rtol (1e-3 at the default rtol): the bound over the residual measures how far the
 # conditioning amplifies a residual. Measured bounds, CG to rtol 1e-8 (true errors about half):
@@ -213,7 +215,8 @@ def solve(system: LinearSystem, solver: str = "auto", near_nullspace=None,
         "direct": SuperLU. "amg": CG with a multigrid preconditioner: with
         ``auxiliary``, the auxiliary-space preconditioner of
         :mod:`efgkit.system.auxiliary` (LU on the boundary rows, a Chebyshev map and
-        one smoothed-aggregation V-cycle on a P1 stiffness of the nodes), else
+        one smoothed-aggregation V-cycle on a P1 stiffness of the nodes between two
+        damped Jacobi steps, in a symmetric block Gauss-Seidel sweep), else
         one V-cycle of smoothed aggregation on the system matrix; a Lagrange
         saddle point takes Uzawa steps on the augmented Lagrangian, each a CG
         solve with that preconditioner (:func:`_augmented_lagrangian`). "auto"
@@ -296,7 +299,8 @@ def _iterative_with_fallback(system, solver, near_nullspace, rtol, auxiliary, st
     untrusted answer under "amg" (a missed residual is left to :func:`_check_residual`)."""
     A, b = system.A, system.b
     iterate = _iterative if system.spd else _augmented_lagrangian
-    z, extra = iterate(system, near_nullspace, rtol, auxiliary, stiffness)
+    with single_blas_thread():
+        z, extra = iterate(system, near_nullspace, rtol, auxiliary, stiffness)
     info.update(extra)
     finite = bool(np.all(np.isfinite(z)))
     res = float(np.linalg.norm(A @ z - b)) / bnorm if finite else np.inf
@@ -315,6 +319,25 @@ def _iterative_with_fallback(system, solver, near_nullspace, rtol, auxiliary, st
             "or a better-conditioned system: the default penalty factor (1e3 E/h) or bc='lagrange' "
             "or 'variational' instead of a large penalty")
     return z
+
+
+def single_blas_thread():
+    """A context in which BLAS runs on one thread (threadpoolctl; a null context without it).
+
+    CG and the preconditioner's set-up call BLAS only on vectors (dot products, norms, the
+    Arnoldi steps of pyamg's spectral-radius estimates), where a second thread gains
+    microseconds, but OpenBLAS's threads spin between calls and stall when the cores are busy:
+    on the 2-core machine shared with other jobs the Uzawa solve of the cracked plate (97k
+    nodes) took 24-25 s of CPU in 13-15 s with two threads against 13-16 s in the same wall time
+    with one, and pyamg's set-up 1.0-5.6 s against 0.5-1.4 s (docs/performance.md,
+    solve_stage_notes)."""
+    if not SINGLE_BLAS_THREAD:
+        return contextlib.nullcontext()
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:  # pragma: no cover - a declared dependency
+        return contextlib.nullcontext()
+    return threadpool_limits(1, user_api="blas")
 
 
 def _untrusted(extra, res, rtol) -> str:
