@@ -1,5 +1,7 @@
 """The dynamic J' and DSIF wired into the explicit driver (efgkit.explicit.dsif)."""
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -195,3 +197,23 @@ def test_near_tip_rays_refuse_bad_lengths():
 def test_hook_errors(kw, err, match):
     with pytest.raises(err, match=match):
         DynamicDSIF(**kw)
+
+
+def test_hook_warns_once_when_a_tip_has_no_room_for_the_face_fit():
+    # spacing 0.25 without zones: the fit window needs 1.5 + 2 spacings (0.875) of free
+    # distance, the tip has 0.5 to the top and bottom edges (efgkit.fracture.face_fit)
+    from efgkit.explicit import dynamics
+
+    scene = Scene(Domain.rectangle(0, 0, 2, 1), MAT, duration=0.1,
+                  cracks=(Crack([[0.0, 0.5], [1.0, 0.5]], tips=(False, True), pressure=0.5),),
+                  tractions=(Traction("top", (0.0, 1.0), history=Heaviside()),))
+    dyn = dynamics(scene, EFG(spacing=0.25, enrichment="none", zones=()))
+    z = np.zeros(dyn.n_dofs)
+    hook = DynamicDSIF(radii=(0.3, 0.375, 0.45))
+    with pytest.warns(UserWarning, match=r"tip\(s\) crack:1 have less than 3.5 local spacings .* "
+                                         r"raw face W.*Remedy: a finer spacing"):
+        hook(dyn, z, z, z, 0.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # once per run
+        hook(dyn, z, z, z, 0.0)
+        DynamicDSIF(radii=(0.3, 0.375, 0.45), face_fit=False)(dyn, z, z, z, 0.0)

@@ -20,8 +20,8 @@ crack, side by side (seed 002 Eqs. 31-38, seed 000 Eqs. 5.2-5.8):
 * ``"spread"``: ``(spread_J, spread)``, the domain spreads of the ``J'`` and the
   interaction ``K`` (:class:`~efgkit.fracture.dynamic_tip.DynamicTipResult`).
 
-The face ``W`` of ``J'_2`` within 1.5 spacings of the tip comes from the fitted face
-displacement (``face_fit``, :mod:`efgkit.fracture.face_fit`); ``q="plateau_fit"`` goes with it.
+The face ``W`` of ``J'_2`` within 1.5 spacings of the tip is the fitted face displacement's
+(``face_fit``, :mod:`efgkit.fracture.face_fit`), with ``q="plateau_fit"``.
 
 With ``decomposition=True`` also ``"J_decomposed"``: ``K_I``, ``K_II`` from ``J'_1`` of the
 symmetric and antisymmetric parts of the field about the crack line
@@ -40,9 +40,8 @@ lumped-mass acceleration towards the consistent-mass one, which balances the dis
 stresses in the weak sense the domain form of ``J'`` relies on
 (:mod:`efgkit.explicit.acceleration_recovery`); MLPG1 keeps the driver's.
 
-Crack-face pressure is constant in time in a scene (it acts from ``t = 0`` on, a
-Heaviside step, like every load without a history: ``explicit.system``), so the face
-traction of ``J'`` is the pressure itself.
+Crack-face pressure acts from ``t = 0`` on (a Heaviside step, like every load without a
+history: ``explicit.system``), so the face traction of ``J'`` is the pressure itself.
 """
 
 from __future__ import annotations
@@ -128,6 +127,8 @@ class TipOperators:
                                   fit=face_operators(disc, scene, tip, crack, h)))
         self.scene = scene
         self.dyn = dyn
+        self.without_fit = [d["tip"].id for d in self.tips if d["fit"] is None]
+        self.fit_warned = False  # DynamicDSIF warns about them once per run
         self.recovery = AccelerationRecovery(dyn, [d["tip"].x for d in self.tips],
                                              [max(d["rs"]) for d in self.tips])
         enr = disc.approx.enrichment
@@ -311,7 +312,8 @@ class DynamicDSIF:
         Face ``W`` of ``J'_2`` within ``FIT_WINDOW[0]`` spacings of the tip from the fitted
         face displacement (:mod:`efgkit.fracture.face_fit`; default True); the raw values
         (False) leave an ``O(K^2 / E')`` error that refinement does not remove. A tip with
-        a free distance below ``FIT_WINDOW[0] + 2`` spacings keeps the raw values.
+        a free distance below ``FIT_WINDOW[0] + 2`` spacings keeps the raw values (with a
+        ``UserWarning`` naming the tips, once per run).
 
     Calling it as ``hook(dyn, u, v, a, t)`` returns ``{estimate: ndarray (n_tips, 2)}``
     for :data:`DYNAMIC_ESTIMATES`; the operators are built at the first call for a run.
@@ -353,6 +355,15 @@ class DynamicDSIF:
         if not dyn.disc.scene.tips:
             return {}
         ops = _operators(dyn, self.radii)
+        if self.face_fit and self.face_terms and ops.without_fit and not ops.fit_warned:
+            ops.fit_warned = True
+            warnings.warn(
+                f"DynamicDSIF(face_fit=True): tip(s) {', '.join(ops.without_fit)} have less than "
+                f"{FIT_WINDOW[0] + 2:g} local spacings of free distance for the fit of the face "
+                "displacement: their J'_2 face term takes the raw face W, whose error does not "
+                "shrink with refinement without enrichment (efgkit.fracture.face_fit). Remedy: a "
+                "finer spacing near the tip, or K from the interaction integral", UserWarning,
+                stacklevel=2)
         with warnings.catch_warnings():  # near-tip fits before the waves arrive (K = 0)
             warnings.simplefilter("ignore")
             return ops.dynamic(np.asarray(u, float), np.asarray(a, float), t, self.q,
