@@ -56,11 +56,9 @@ from scipy.sparse import csr_array, vstack
 
 from ..fracture.decomposition import decomposed_tip_result, mirror_points
 from ..fracture.dynamic_tip import dynamic_tip_result
-from ..fracture.face_fit import FIT_WINDOW, N_FACE, face_operators, fit_face_displacement, near_tip_energy
+from ..fracture.face_fit import FIT_WINDOW, N_FACE, face_fit_energy, face_operators, plateau_q
 from ..fracture.integrals import FaceLoad
-from ..fracture.qfunctions import QFunction
 from ..fracture.sif import face_loads, tip_limits, tip_radii, tip_result
-from ..problem.frames import rotate_vectors
 from ..problem.material import strain_from_gradient
 from ..problem.scene import evaluate_vector
 from .acceleration_recovery import AccelerationRecovery
@@ -124,11 +122,10 @@ class TipOperators:
                                   op=csr_array(vstack(ops, format="csr")),
                                   val=csr_array(vstack(vals, format="csr")), rays=rays,
                                   faces=faces, face0=f0, loaded=crack.pressure != 0.0,
-                                  fit=face_operators(disc, scene, tip, crack, h)))
+                                  crack=crack))
         self.scene = scene
         self.dyn = dyn
-        self.without_fit = [d["tip"].id for d in self.tips if d["fit"] is None]
-        self.fit_warned = False  # DynamicDSIF warns about them once per run
+        self.fit_warned = False  # DynamicDSIF warns once per run about tips without the fit
         self.recovery = AccelerationRecovery(dyn, [d["tip"].x for d in self.tips],
                                              [max(d["rs"]) for d in self.tips])
         enr = disc.approx.enrichment
@@ -155,18 +152,21 @@ class TipOperators:
                            csr_array(vstack(list(sh.u_operators()), format="csr")))
         return d["mirror"]
 
+    def fit_operators(self, d: dict):
+        """The tip's face-fit operators (:func:`~efgkit.fracture.face_fit.face_operators`; None
+        without room for the window), built at the first call: hooks without the fit skip them."""
+        if "fit" not in d:
+            d["fit"] = face_operators(self.dyn.disc, self.scene, d["tip"], d["crack"], d["h"])
+        return d["fit"]
+
     def _faces(self, d: dict, u: np.ndarray, fit: bool = False) -> FaceLoad:
         """The tip's face points with their tractions and the gradients of ``u`` there; with
         ``fit`` also ``W`` near the tip from the fitted face displacement
         (:mod:`efgkit.fracture.face_fit`; where the tip has room for the fit window)."""
         grads = np.concatenate([_grad(d["faces"][s], u) for s in (1.0, -1.0)])
         f = replace(d["face0"], grad_u=grads)
-        if fit and d["fit"] is not None:
-            r, r0, ops = d["fit"]
-            tip = d["tip"]
-            u1 = [rotate_vectors((op @ u).reshape(2, -1).T, -tip.angle)[:, 0] for op in ops]
-            ff = fit_face_displacement(r, u1[0], u1[1], r0)
-            f = replace(f, energy=near_tip_energy(ff, f, tip, self.scene.material))
+        if fit and self.fit_operators(d) is not None:
+            f = replace(f, energy=face_fit_energy(d["fit"], u, f, d["tip"], self.scene.material))
         return f
 
     def estimates(self, u: np.ndarray) -> dict:
@@ -218,7 +218,7 @@ class TipOperators:
         if inertia:
             a = self.recovered_acceleration(a, mass_iterations)
         for k, d in enumerate(self.tips):
-            qk = _plateau_fit(d["h"]) if isinstance(q, str) and q == PLATEAU_FIT else q
+            qk = plateau_q(d["h"]) if isinstance(q, str) and q == PLATEAU_FIT else q
             grad = _grad(d["op"], u)
             stress = strain_from_gradient(grad) @ self.D.T
             m = len(d["x"])
@@ -257,11 +257,6 @@ class TipOperators:
             if decomposition:
                 out["J_decomposed_domains"] = np.array(out["J_decomposed_domains"])
         return out
-
-
-def _plateau_fit(h: float) -> Callable:
-    """``radius -> QFunction``: the plateau q of :data:`PLATEAU_FIT` for a tip of spacing ``h``."""
-    return lambda R: QFunction("plateau", R, r_in=min(FIT_WINDOW[0] * h, 0.5 * R))
 
 
 def _operators(dyn, radii) -> TipOperators:
@@ -355,15 +350,17 @@ class DynamicDSIF:
         if not dyn.disc.scene.tips:
             return {}
         ops = _operators(dyn, self.radii)
-        if self.face_fit and self.face_terms and ops.without_fit and not ops.fit_warned:
+        if self.face_fit and self.face_terms and not ops.fit_warned:
             ops.fit_warned = True
-            warnings.warn(
-                f"DynamicDSIF(face_fit=True): tip(s) {', '.join(ops.without_fit)} have less than "
-                f"{FIT_WINDOW[0] + 2:g} local spacings of free distance for the fit of the face "
-                "displacement: their J'_2 face term takes the raw face W, whose error does not "
-                "shrink with refinement without enrichment (efgkit.fracture.face_fit). Remedy: a "
-                "finer spacing near the tip, or K from the interaction integral", UserWarning,
-                stacklevel=2)
+            short = [d["tip"].id for d in ops.tips if ops.fit_operators(d) is None]
+            if short:
+                warnings.warn(
+                    f"DynamicDSIF(face_fit=True): tip(s) {', '.join(short)} have less than "
+                    f"{FIT_WINDOW[0] + 2:g} local spacings of free distance for the fit of the "
+                    "face displacement: their J'_2 face term takes the raw face W, whose error "
+                    "does not shrink with refinement without enrichment "
+                    "(efgkit.fracture.face_fit). Remedy: a finer spacing near the tip, or K from "
+                    "the interaction integral", UserWarning, stacklevel=2)
         with warnings.catch_warnings():  # near-tip fits before the waves arrive (K = 0)
             warnings.simplefilter("ignore")
             return ops.dynamic(np.asarray(u, float), np.asarray(a, float), t, self.q,

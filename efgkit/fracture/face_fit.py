@@ -53,10 +53,11 @@ from ..problem.crack import FACE_OFFSET, Tip
 from ..problem.frames import rotate_vectors
 from ..problem.material import Elastic
 from .faces import FaceLoad
+from .qfunctions import QFunction
 from .sif import tip_limits
 
-__all__ = ["FIT_WINDOW", "N_FACE", "N_FIT", "FaceFit", "face_energy", "face_operators",
-           "fit_face_displacement", "fit_operator", "near_tip_energy"]
+__all__ = ["FIT_WINDOW", "N_FACE", "N_FIT", "FaceFit", "face_energy", "face_fit_energy", "face_operators",
+           "fit_face_displacement", "fit_operator", "near_tip_energy", "plateau_q"]
 
 FIT_WINDOW = (1.5, 6.0)  # [r0, r1] in local spacings: W from the fit below r0 (measured, module doc)
 N_FIT = 16  # sample points per face in the window
@@ -193,3 +194,18 @@ def face_operators(disc, scene, tip: Tip, crack, h: float):
                                                     derivatives=False).u_operators()), format="csr"))
                 for s in (1.0, -1.0))
     return r, r0, ops
+
+
+def plateau_q(h: float):
+    """``radius -> QFunction``: the plateau q that goes with the fit at a tip of spacing ``h``,
+    ``q = 1`` within ``min(FIT_WINDOW[0] h, R / 2)`` (``DynamicDSIF(q="plateau_fit")``)."""
+    return lambda R: QFunction("plateau", R, r_in=min(FIT_WINDOW[0] * h, 0.5 * R))
+
+
+def face_fit_energy(operators, u: np.ndarray, faces: FaceLoad, tip: Tip, material: Elastic) -> np.ndarray:
+    """:func:`near_tip_energy` of the fit of the face displacement of the coefficients ``u``
+    ``(n_dofs,)``, sampled by ``operators`` (:func:`face_operators`): ``W`` (m,) at the face
+    points of ``faces`` within ``r0`` of ``tip``, NaN at the others."""
+    r, r0, ops = operators
+    u1 = [rotate_vectors((op @ u).reshape(2, -1).T, -tip.angle)[:, 0] for op in ops]
+    return near_tip_energy(fit_face_displacement(r, u1[0], u1[1], r0), faces, tip, material)
