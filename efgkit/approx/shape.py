@@ -93,13 +93,15 @@ class Shape:
             raise ValueError("derivatives were not computed: call mls_shape(..., derivatives=True)")
         indptr, cols, full = self._pattern
         data = vals.ravel() if full else vals[self.neighbours.mask]
-        return csr_array((data, cols, indptr), shape=self.shape)
+        # each operator its own copy of the pattern: scipy canonicalises some operands in
+        # place (sort_indices, sum_duplicates), which must not reorder another's indices
+        return csr_array((data, cols.copy(), indptr.copy()), shape=self.shape)
 
     @cached_property
     def _pattern(self) -> tuple[np.ndarray, np.ndarray, bool]:
         """(indptr, indices, every row full) of :attr:`phi`, :attr:`dx`, :attr:`dy`, formed once
-        and shared by the three (int32 when the sizes allow: scipy would otherwise widen the
-        int32 neighbour indices to the int64 of the index pointers, a copy per operator)."""
+        for the three (int32 when the sizes allow: scipy would otherwise widen the int32
+        neighbour indices to the int64 of the index pointers, a conversion per operator)."""
         nb = self.neighbours
         counts = nb.counts
         it = np.int32 if nb.idx.size < 2**31 and self.n_functions < 2**31 else np.int64
