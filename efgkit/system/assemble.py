@@ -102,6 +102,16 @@ def _row_order(t_ptr: np.ndarray, t_pos: np.ndarray, k: int) -> np.ndarray:
     return np.argsort(mid, kind="stable")
 
 
+def _row_chunks(t_ptr: np.ndarray, t_pos: np.ndarray, k: int, threads: int) -> tuple:
+    """(order, chunks): the rows in :func:`_row_order` and ranges of positions in it holding
+    about equal numbers of (function, point) pairs, for the thread pool."""
+    n = len(t_ptr) - 1
+    order = _row_order(t_ptr, t_pos, k)
+    work = np.cumsum(np.diff(t_ptr)[order])  # (function, point) pairs up to each row
+    cuts = np.searchsorted(work, np.linspace(0, work[-1] if n else 0, _n_chunks(threads) + 1)[1:-1])
+    return order, _spans(np.concatenate([[0], cuts, [n]]))
+
+
 def _compiled(test: Shape, trial: Shape, w: np.ndarray, D: np.ndarray) -> csr_array:
     """K by the compiled row kernel (module docstring of :mod:`efgkit.system.kernels`): the
     rows in chunks of about equal numbers of (function, point) pairs, run on
@@ -116,10 +126,7 @@ def _compiled(test: Shape, trial: Shape, w: np.ndarray, D: np.ndarray) -> csr_ar
     t_ptr, t_pos, ascending = _lists(test, threads)
     n, m = test.n_functions, trial.n_functions
     symmetric = test is trial and np.array_equal(D, D.T)  # K_JI = K_IJ^T: half the work
-    order = _row_order(t_ptr, t_pos, test.ddx.shape[1])
-    work = np.cumsum(np.diff(t_ptr)[order])  # (function, point) pairs up to each row
-    cuts = np.searchsorted(work, np.linspace(0, work[-1] if n else 0, _n_chunks(threads) + 1)[1:-1])
-    chunks = _spans(np.concatenate([[0], cuts, [n]]))
+    order, chunks = _row_chunks(t_ptr, t_pos, test.ddx.shape[1], threads)
     width = nb.idx.shape[1] * (2 if symmetric else 4)  # about the blocks of a row
 
     def args(r):
@@ -256,7 +263,7 @@ def _with_enrichment(shape: Shape, w, D, backend) -> csr_array:
         return [csr_array(W @ sum(C[i, j] * eps[j] for j in range(3) if C[i, j] != 0))
                 for i in range(3)]
 
-    def nodal_rows(sig, chunk=131072):  # sum_q B_I^T sig: (2 n_functions, n_extra)
+    def product_rows(sig, chunk=131072):  # sum_q B_I^T sig: (2 n_functions, n_extra)
         kx = ky = 0
         for s in range(0, len(w), chunk):  # operators of a chunk of points at a time
             part = slice(s, s + chunk)
@@ -267,9 +274,8 @@ def _with_enrichment(shape: Shape, w, D, backend) -> csr_array:
             ky = ky + dyT @ sy + dxT @ sxy
         return csr_array(vstack([csr_array(kx), csr_array(ky)], format="csr")[interleave])
 
-    if backend == "numba":
-        def nodal_rows(sig):  # noqa: F811 (the compiled rows instead of the operator products)
-            return _extra_compiled(shape, sig)
+    def nodal_rows(sig):  # the compiled rows, or the operator products of the reference
+        return _extra_compiled(shape, sig) if backend == "numba" else product_rows(sig)
 
     sig = stresses(D)
     K_ne = nodal_rows(sig)
@@ -316,10 +322,7 @@ def _extra_compiled(shape: Shape, sig: list) -> csr_array:
     csr = [csr_array(a) for a in sig]
     parts3 = [a for c in csr for a in (c.indptr.astype(np.int64), c.indices.astype(np.int32),
                                        c.data.astype(float))]
-    order = _row_order(t_ptr, t_pos, shape.ddx.shape[1])
-    work = np.cumsum(np.diff(t_ptr)[order])
-    cuts = np.searchsorted(work, np.linspace(0, work[-1] if n else 0, _n_chunks(threads) + 1)[1:-1])
-    chunks = _spans(np.concatenate([[0], cuts, [n]]))
+    order, chunks = _row_chunks(t_ptr, t_pos, shape.ddx.shape[1], threads)
     parts = _on_threads(lambda r: extra_rows(order, r[0], r[1], t_ptr, t_pos, shape.ddx,
                                              shape.ddy, *parts3, n_extra), chunks, threads)
     lens = np.zeros(n, np.int64)
