@@ -13,6 +13,7 @@ from efgkit.gallery import singular_patch
 from efgkit.methods.boundary import essential_conditions
 from efgkit.methods.discretize import discretize
 from efgkit.nodes import generate_nodes
+from efgkit.search import find_neighbours
 from efgkit.system.assemble import stiffness
 from efgkit.system.constraints import modified_variational
 from efgkit.system.dense_stiffness import DENSE_WORK, dense_enrichment_blocks
@@ -111,3 +112,26 @@ def test_nitsche_system_equals_the_operator_algebra(patch):
     ref = np.zeros(bc.fixed.shape)
     ref[q, c] = w * (T @ z - beta * (G @ z - ub))
     assert np.allclose(x, bc.x) and np.abs(force - ref).max() <= 1e-12 * np.abs(ref).max()
+
+
+def test_shape_near_a_crack_equals_all_points_then_the_near_rows_redone(patch):
+    # numpy path: the crack-free MLS runs on the rows away from the crack only; the values
+    # are those of the crack-free MLS of all points with the near rows redone under the rule
+    disc = discretize(patch[0], EFG(spacing=0.25, enrichment="extrinsic_mls"))
+    ap, x = disc.approx, disc.points.x
+    nb = disc.shape.neighbours
+    sh = ap.shape(x, neighbours=find_neighbours(x, ap.nodes, ap.boxes))
+    rows = ap.cracked_rows(x, sh.neighbours)
+    assert 0 < len(rows) < len(x)
+    kw = dict(d_max=ap.d_max, alpha=ap.alpha, k=ap.k, backend="numpy")
+    plain = mls_shape(x, ap.nodes, ap.weight, ap.basis, neighbours=find_neighbours(x, ap.nodes, ap.boxes),
+                      **kw)
+    cw = ap.sight_weights(x[rows], find_neighbours(x[rows], ap.nodes, ap.boxes))
+    near = mls_shape(x[rows], ap.nodes, ap.weight, ap.basis,
+                     neighbours=find_neighbours(x[rows], ap.nodes, ap.boxes), weights=cw, **kw)
+    for got, a, b in ((sh.values, plain.values, near.values), (sh.ddx, plain.ddx, near.ddx),
+                      (sh.ddy, plain.ddy, near.ddy)):
+        ref = a.copy()
+        ref[rows] = b
+        assert np.array_equal(got, ref)
+    assert nb.idx.shape == sh.neighbours.idx.shape
