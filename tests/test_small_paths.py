@@ -135,3 +135,18 @@ def test_shape_near_a_crack_equals_all_points_then_the_near_rows_redone(patch):
         ref[rows] = b
         assert np.array_equal(got, ref)
     assert nb.idx.shape == sh.neighbours.idx.shape
+
+
+def test_interpolant_equals_the_padded_sum(patch):
+    # sum_I phi_I(x) q_I (seed 003 Eq. 44b) by a CSR product: the padded gather's sum
+    from efgkit.approx.enrichment import interpolant
+
+    _, disc = patch
+    sh, enr = disc.shape, disc.approx.enrichment
+    qn = enr.node_q[0].reshape(-1, 4)
+    nb = sh.neighbours
+    rows = np.arange(1, len(disc.points.x), 3)
+    for v in (sh.values, sh.ddx, sh.ddy):
+        ref = np.einsum("qk,qkc->qc", np.where(nb.mask[rows], v[rows], 0.0), qn[nb.idx[rows]])
+        got = interpolant(v, nb, rows, qn, chunk=50)
+        assert np.abs(got - ref).max() <= 1e-14 * np.abs(ref).max()
