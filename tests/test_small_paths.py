@@ -150,3 +150,20 @@ def test_interpolant_equals_the_padded_sum(patch):
         ref = np.einsum("qk,qkc->qc", np.where(nb.mask[rows], v[rows], 0.0), qn[nb.idx[rows]])
         got = interpolant(v, nb, rows, qn, chunk=50)
         assert np.abs(got - ref).max() <= 1e-14 * np.abs(ref).max()
+
+
+def test_all_pairs_search_gives_the_tree_s_graph(monkeypatch):
+    # a small cloud: every (point, node) pair tested; the same CSR graph as the tree's
+    import efgkit.search.kdtree as kd
+    from efgkit.nodes import NodeCloud
+
+    rng = np.random.default_rng(5)
+    xn = rng.random((40, 2))
+    cloud = NodeCloud(xn, rng.uniform(0.1, 0.3, 40), np.zeros(40, bool))
+    x = np.vstack([rng.random((300, 2)), xn[:5] + [cloud.radius[0], 0.0]])  # one at r exactly
+    assert len(x) * len(xn) <= kd.ALL_PAIRS
+    small = kd.kdtree_lists(x, cloud)
+    monkeypatch.setattr(kd, "ALL_PAIRS", 0)
+    tree = kd.kdtree_lists(x, cloud)
+    assert np.array_equal(small[0], tree[0]) and np.array_equal(small[1], tree[1])
+    assert small[1].size > len(x)
