@@ -82,8 +82,14 @@ def test_dense_enrichment_blocks_equal_the_sparse_products(patch, unsymmetric):
     assert _close(stiffness(sh, w, D, backend="numpy"), stiffness(sh, w, D, backend="numba"))
 
 
-def test_nitsche_system_equals_the_operator_algebra(patch):
+@pytest.mark.parametrize("dense", [True, False])
+def test_nitsche_system_equals_the_operator_algebra(patch, dense, monkeypatch):
+    import efgkit.system.constraints as cons
+
     scene, disc = patch
+    assert disc.n_dofs <= cons.DENSE_DOFS
+    if not dense:  # the sparse products of larger systems
+        monkeypatch.setattr(cons, "DENSE_DOFS", 0)
     bc = essential_conditions(disc, derivatives=True)
     D, beta = scene.material.D, 100.0 * scene.material.E
     K = stiffness(disc.shape, disc.points.w, D)

@@ -231,12 +231,7 @@ def lagrange(K, f, bc: Dirichlet, node_x: np.ndarray, check: bool = True) -> Lin
     return LinearSystem(A, np.concatenate([f, q]), spd=False, n_coeffs=n, support_forces=forces)
 
 
-def _traction_operator(bc: Dirichlet, D: np.ndarray) -> csr_array:
-    """Rows (point, fixed comp) -> t_comp = (D eps(c) . n)_comp at boundary points."""
-    B = _stacked_rows(bc, D)
-    return csr_array(B[B.shape[0] // 2:])
-
-
+DENSE_DOFS = 200  # up to this many unknowns Nitsche's terms are formed in dense arrays
 _VOIGT = np.array([[0, 2], [2, 1]])  # (component, derivative) -> Voigt row (xx, yy, xy)
 
 
@@ -292,12 +287,6 @@ def _coo(op: csr_array) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return np.repeat(np.arange(op.shape[0]), np.diff(op.indptr)), op.indices, op.data
 
 
-def _stacked_rows(bc: Dirichlet, D: np.ndarray) -> csr_array:
-    """``[G; T]``, csr_array (2 m_fixed, n_dofs) (:func:`_triplets`)."""
-    m, rows, cols, vals = _triplets(bc, D)
-    return csr_array((vals, (rows, cols)), shape=(2 * m, bc.shape.n_dofs))
-
-
 def boundary_traction_term(bc: Dirichlet, D: np.ndarray) -> csr_array:
     """The Gamma_u boundary term of the Galerkin weak form, ``H = G^T W T`` (n_dofs, n_dofs).
 
@@ -308,9 +297,10 @@ def boundary_traction_term(bc: Dirichlet, D: np.ndarray) -> csr_array:
     :mod:`efgkit.system.collocation`); ``K - H - H^T`` that of Eq. (27) below. Needs the
     shape derivatives at the boundary points (``essential_conditions(disc, derivatives=True)``).
     """
-    G = _component_operator(bc.shape, bc.fixed)
+    m, rows, cols, vals = _triplets(bc, D)
+    B = csr_array((vals, (rows, cols)), shape=(2 * m, bc.shape.n_dofs))  # [G; T]
     w = np.broadcast_to(bc.w[:, None], bc.fixed.shape)[bc.fixed]
-    return csr_array(G.T @ diags_array(w) @ _traction_operator(bc, D))
+    return csr_array(csr_array(B[:m]).T @ diags_array(w) @ csr_array(B[m:]))
 
 
 def modified_variational(K, f, bc: Dirichlet, D: np.ndarray, beta: float,
@@ -324,13 +314,32 @@ def modified_variational(K, f, bc: Dirichlet, D: np.ndarray, beta: float,
     """
     m, rows, cols, vals = _triplets(bc, D)
     n = bc.shape.n_dofs
-    B = csr_array((vals, (rows, cols)), shape=(2 * m, n))  # [G; T]
-    if check:
-        check_rigid_modes(B, node_x, m)
     w = np.broadcast_to(bc.w[:, None], bc.fixed.shape)[bc.fixed]
     ub = bc.value[bc.fixed]
     # A - K = [G; T]^T [[beta W, -W], [-W, 0]] [G; T]: one product of B^T and the rows of
-    # [beta W G - W T; -W G] (formed from the same triplets)
+    # [beta W G - W T; -W G] (formed from the same triplets); dense for a few unknowns
+    if n <= DENSE_DOFS:
+        B = np.zeros((2 * m, n))
+        np.add.at(B, (rows, cols), vals)
+        if check:
+            check_rigid_modes(B, node_x, m)
+        C = np.vstack([w[:, None] * (beta * B[:m] - B[m:]), -w[:, None] * B[:m]])
+        A = csr_array(K.toarray() + B.T @ C)
+        b = f + B.T @ np.concatenate([beta * w * ub, -w * ub])
+    else:
+        B, A, b = _nitsche_sparse(K, f, m, rows, cols, vals, n, w, ub, beta, node_x, check)
+
+    def forces(z):  # the consistent flux (sigma^h n - beta (u^h - ubar)) ds at each point
+        gc, tc = np.split(B @ z[: K.shape[0]], 2)
+        return bc.x, _at_points(bc.fixed, w * (tc - beta * (gc - ub)))
+    return LinearSystem(A, b, spd=True, n_coeffs=K.shape[0], support_forces=forces)
+
+
+def _nitsche_sparse(K, f, m, rows, cols, vals, n, w, ub, beta, node_x, check):
+    """``[G; T]``, A and b of :func:`modified_variational` by sparse products."""
+    B = csr_array((vals, (rows, cols)), shape=(2 * m, n))  # [G; T]
+    if check:
+        check_rigid_modes(B, node_x, m)
     g = rows < m
     wr = np.where(g, w[np.where(g, rows, rows - m)], 0.0)
     Bt = csr_array((vals, (cols, rows)), shape=(n, 2 * m))
@@ -338,13 +347,7 @@ def modified_variational(K, f, bc: Dirichlet, D: np.ndarray, beta: float,
                              -wr[g] * vals[g]])
     C = csr_array((scaled, (np.concatenate([np.where(g, rows, rows - m), rows[g] + m]),
                             np.concatenate([cols, cols[g]]))), shape=(2 * m, n))
-    A = csr_array(K + Bt @ C)
-    b = f + Bt @ np.concatenate([beta * w * ub, -w * ub])
-
-    def forces(z):  # the consistent flux (sigma^h n - beta (u^h - ubar)) ds at each point
-        gc, tc = np.split(B @ z[: K.shape[0]], 2)
-        return bc.x, _at_points(bc.fixed, w * (tc - beta * (gc - ub)))
-    return LinearSystem(A, b, spd=True, n_coeffs=K.shape[0], support_forces=forces)
+    return B, csr_array(K + Bt @ C), f + Bt @ np.concatenate([beta * w * ub, -w * ub])
 
 
 def eliminate(K, f, fixed_dofs: np.ndarray, fixed_values: np.ndarray,
