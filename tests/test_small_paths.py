@@ -173,3 +173,17 @@ def test_all_pairs_search_gives_the_tree_s_graph(monkeypatch):
     tree = kd.kdtree_lists(x, cloud)
     assert np.array_equal(small[0], tree[0]) and np.array_equal(small[1], tree[1])
     assert small[1].size > len(x)
+
+
+def test_both_components_of_a_field_at_once():
+    from efgkit.problem.exact.fields import Field
+    from efgkit.problem.scene import evaluate_component, evaluate_components
+
+    f, mat = Field.named("williams", KI=1.0, KII=0.5), Elastic(1.0, 0.3)
+    x = np.random.default_rng(6).uniform(-1, 1, (20, 2))
+    ref = np.column_stack([evaluate_component(f, x, c, mat) for c in (0, 1)])
+    assert np.array_equal(evaluate_components(f, f, x, mat), ref)
+    got = evaluate_components(None, 0.5, x, mat)
+    assert np.array_equal(got, np.column_stack([np.zeros(20), np.full(20, 0.5)]))
+    with pytest.raises(ValueError, match="too large to square"):
+        evaluate_components(1e300, None, x, mat)
