@@ -180,7 +180,9 @@ class Approximation:
             if resolve_backend("auto", len(x)) == "numpy":  # small: the plain rows alone
                 # (the near rows can be most of them; each row's arithmetic is its own)
                 vals = [np.zeros(nb.idx.shape) if i == 0 or derivatives else None for i in range(3)]
-                plain = np.setdiff1d(np.arange(len(x)), rows)
+                away = np.ones(len(x), bool)
+                away[rows] = False
+                plain = np.flatnonzero(away)
                 if len(plain):
                     sp = self._mls(x[plain], nb.subset(plain), derivatives)
                     for v, r in zip(vals, (sp.values, sp.ddx, sp.ddy), strict=True):
