@@ -189,7 +189,7 @@ def test_both_components_of_a_field_at_once():
         evaluate_components(1e300, None, x, mat)
 
 
-def test_small_spd_solve_by_dense_cholesky_equals_superlu(patch, monkeypatch):
+def test_small_spd_solve_by_dense_cholesky_equals_superlu(patch):
     import efgkit.system.linalg as la
     from efgkit.methods.boundary import loads
     from efgkit.static import constrained_system
@@ -197,12 +197,13 @@ def test_small_spd_solve_by_dense_cholesky_equals_superlu(patch, monkeypatch):
     scene, disc = patch
     system = constrained_system(disc, stiffness(disc.shape, disc.points.w, scene.material.D), loads(disc))
     assert system.spd and system.A.shape[0] <= la.DENSE_SOLVE
-    dense = la.solve(system, "direct")[0]
-    monkeypatch.setattr(la, "DENSE_SOLVE", 0)
+    dense = la.solve(system, "direct", dense=la.DENSE_SOLVE)[0]
     sparse = la.solve(system, "direct")[0]
     assert np.abs(dense - sparse).max() <= 1e-14 * np.abs(sparse).max()  # measured 3.5e-15 (cond 160)
     # symmetric but indefinite though flagged SPD: Cholesky fails, SuperLU solves it
-    monkeypatch.setattr(la, "DENSE_SOLVE", 400)
     A = csr_array(np.array([[1.0, 2.0], [2.0, 1.0]]))
-    z = la.solve(la.LinearSystem(A, np.array([3.0, 3.0]), True, 2), "direct")[0]
+    z = la.solve(la.LinearSystem(A, np.array([3.0, 3.0]), True, 2), "direct", dense=400)[0]
     assert np.allclose(z, [1.0, 1.0])
+    with pytest.raises(la.SolverError, match="singular"):  # PSD singular: SuperLU's error
+        la.solve(la.LinearSystem(csr_array(np.ones((2, 2))), np.array([1.0, 0.0]), True, 2), "direct",
+                 dense=400)

@@ -33,7 +33,11 @@ from .constraints import LinearSystem
 __all__ = ["solve", "SolverError", "AUTO_AMG_THRESHOLD", "ERROR_FACTOR"]
 
 AUTO_AMG_THRESHOLD = 20_000  # unknowns above which "auto" uses CG for SPD systems
-DENSE_SOLVE = 400  # SPD systems up to this many unknowns: dense Cholesky (_direct)
+# What the EFG driver passes as ``dense`` (efgkit.static.solve): its small systems have full
+# enrichment columns (two per tip for the extrinsic MLS), which fill SuperLU's factor; the
+# SENT's 314 unknowns: dense Cholesky 0.7 ms against 2.4 ms, K the same to 3e-14
+# (docs/performance.md, work_interleaved)
+DENSE_SOLVE = 400
 # Augmented-Lagrangian weight: its largest diagonal entry over K's. The Uzawa steps shrink a
 # multiplier mode by 1 / (1 + rho mu); at 1e3 the Kirsch plate (symmetry supports, one component
 # per edge) has a mode with rho mu ~ 0.01: 20 steps left the gap at 5e-8 > rtol and 'auto' fell
@@ -59,15 +63,14 @@ class SolverError(RuntimeError):
     """A linear solve failed or its residual is too large."""
 
 
-def _direct(A, b, spd):
+def _direct(A, b, spd, dense: int = 0):
     """SuperLU. SPD systems keep the diagonal pivots of the symmetric minimum-degree
     ordering of A + A^T (10-40x faster on irregular clouds than threshold pivoting);
     saddle-point (Lagrange) systems need pivoting, and there the column ordering COLAMD
     fills 40% less and runs 3x faster (Kirsch plate, 16.6k unknowns: 4.5 s against
-    13.2 s; with PU enrichment 6x). SPD systems of at most :data:`DENSE_SOLVE` unknowns:
-    dense Cholesky (LAPACK), SuperLU if it fails (the SENT's 314 unknowns, whose extrinsic
-    enrichment columns are full: 0.9 against 2.4 ms; K the same to 1e-13)."""
-    if spd and A.shape[0] <= DENSE_SOLVE:
+    13.2 s; with PU enrichment 6x). SPD systems of at most ``dense`` unknowns: dense
+    Cholesky (LAPACK), SuperLU if it fails."""
+    if spd and A.shape[0] <= dense:
         from scipy.linalg import cho_factor, cho_solve
 
         with contextlib.suppress(np.linalg.LinAlgError):
@@ -213,7 +216,8 @@ def _augmented_lagrangian(system, near_nullspace, rtol, auxiliary, stiffness):
 
 
 def solve(system: LinearSystem, solver: str = "auto", near_nullspace=None,
-          rtol: float = 1e-8, *, auxiliary=None, stiffness=None) -> tuple[np.ndarray, dict]:
+          rtol: float = 1e-8, *, auxiliary=None, stiffness=None, dense: int = 0
+          ) -> tuple[np.ndarray, dict]:
     """Solve ``system`` and return (solution z, info).
 
     Parameters
@@ -246,6 +250,9 @@ def solve(system: LinearSystem, solver: str = "auto", near_nullspace=None,
     stiffness : sparse (n_coeffs, n_coeffs), optional
         The stiffness before the essential boundary conditions; ``system.A``
         minus it locates the boundary-layer unknowns.
+    dense : int
+        SPD systems of at most this many unknowns solved directly by dense Cholesky
+        (SuperLU if it fails); 0: SuperLU always. The EFG driver passes :data:`DENSE_SOLVE`.
 
     Returns
     -------
@@ -283,7 +290,7 @@ def solve(system: LinearSystem, solver: str = "auto", near_nullspace=None,
     if use_amg:
         z = _iterative_with_fallback(system, solver, near_nullspace, rtol, auxiliary, stiffness, bnorm, info)
     else:
-        z = _direct(A, b, system.spd)
+        z = _direct(A, b, system.spd, dense)
     _check_residual(A, b, z, bnorm, rtol, info)
     return z, info
 
