@@ -20,6 +20,7 @@ CG run: :mod:`efgkit.system.conjugate_gradient`) must also stay below ``ERROR_FA
 from __future__ import annotations
 
 import contextlib
+import functools
 import time
 import warnings
 
@@ -70,10 +71,11 @@ def _direct(A, b, spd, dense: int = 0):
     fills 40% less and runs 3x faster (Kirsch plate, 16.6k unknowns: 4.5 s against
     13.2 s; with PU enrichment 6x). SPD systems of at most ``dense`` unknowns: dense
     Cholesky (LAPACK), SuperLU if it fails."""
-    if spd and A.shape[0] <= dense:
+    if spd and A.shape[0] <= dense:  # one BLAS thread: a second one stalls on busy cores
         from scipy.linalg import cho_factor, cho_solve
 
-        with contextlib.suppress(np.linalg.LinAlgError):
+        with contextlib.suppress(np.linalg.LinAlgError), _blas_controller().limit(limits=1,
+                                                                                   user_api="blas"):
             return cho_solve(cho_factor(A.toarray()), b)
     A = csc_array(A)
     opts = dict(permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
@@ -334,6 +336,15 @@ def _iterative_with_fallback(system, solver, near_nullspace, rtol, auxiliary, st
             "or a better-conditioned system: the default penalty factor (1e3 E/h) or bc='lagrange' "
             "or 'variational' instead of a large penalty")
     return z
+
+
+@functools.cache
+def _blas_controller():
+    """threadpoolctl's controller of the loaded BLAS libraries, found once per process (~8 ms;
+    its ``limit`` then costs microseconds, a fresh ``threadpool_limits`` ~0.7 ms a call)."""
+    from threadpoolctl import ThreadpoolController
+
+    return ThreadpoolController()
 
 
 def single_blas_thread():
