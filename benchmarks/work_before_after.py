@@ -11,7 +11,9 @@ in docs/performance.md) the whole pipeline, ``solve(scene, EFG(...))`` then ``si
 as new, base, FEM, new, base, FEM, ... after three warm-up rounds, each call on a scene
 built once by that package's own gallery. Prints K_I and J of new and base (their relative
 difference) and the median times with the ratios of each round (median and a bootstrap
-90 % interval of the median, np.random.default_rng(0), 2000 resamples).
+90 % interval of the median, np.random.default_rng(0), 2000 resamples). ``--candidates``:
+instead, K_I, K_II and J of every EFG candidate of :mod:`work_interleaved` and of its
+refinement, new against base.
 """
 
 from __future__ import annotations
@@ -54,6 +56,9 @@ def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--base", type=Path, required=True, help="an exported tree of the earlier revision")
     ap.add_argument("--rounds", type=int, default=41)
+    ap.add_argument("--candidates", action="store_true",
+                    help="instead: K_I, K_II and J of every EFG candidate of work_interleaved (and "
+                         "its refinement, half the spacing), new against base")
     args = ap.parse_args(argv)
     sys.path.insert(0, str(Path(__file__).resolve().parent))
     import work_precision as wp
@@ -66,9 +71,29 @@ def main(argv=None) -> None:
 
     base_scenes = {"singular patch": lambda: base_gallery.singular_patch(1.0, 0.0, name="singular patch"),
                    "SENT": base_gallery.sent_seed001}
+    if args.candidates:
+        return same_results(wp, efgkit, base, base_scenes)
     rng = np.random.default_rng(0)
     for problem, setting in SETTINGS.items():
         compare(problem, setting, wp, efgkit, base, base_scenes[problem](), FEM, solve_fem, args.rounds, rng)
+
+
+def same_results(wp, efgkit, base, base_scenes) -> None:
+    """The largest relative difference of K_I, K_II and J (over |K_I|, |J|) of every EFG candidate."""
+    import work_interleaved as wi
+
+    worst, n = 0.0, 0
+    for problem, spec in wi.EFG_CANDIDATES.items():
+        radii = wp.PROBLEMS[problem]["radii"]
+        sc_new, sc_old = wp.PROBLEMS[problem]["scene"](), base_scenes[problem]()
+        for variant, options in spec["variants"].items():
+            for h in sorted({float(h) for h in spec["spacing"]} | {float(h) / 2 for h in spec["spacing"]}):
+                a = efgkit.solve(sc_new, efgkit.EFG(spacing=h, **options)).sifs(radii=radii, error=False)[0]
+                b = base.solve(sc_old, base.EFG(spacing=h, **options)).sifs(radii=radii, error=False)[0]
+                d = max(abs(a.KI - b.KI) / abs(b.KI), abs(a.KII - b.KII) / abs(b.KI), abs(a.J / b.J - 1))
+                worst, n = max(worst, d), n + 1
+                print(f"{problem}, {variant}, h = {h:.4g}: {d:.1e}")
+    print(f"{n} runs: largest relative difference {worst:.1e}")
 
 
 def compare(problem, setting, wp, efgkit, base, sc_old, FEM, solve_fem, rounds, rng) -> None:  # noqa: N803
