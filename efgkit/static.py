@@ -41,7 +41,7 @@ from .system.constraints import (
     penalty,
     rigid_body_modes,
 )
-from .system.linalg import AUTO_AMG_THRESHOLD
+from .system.linalg import AUTO_AMG_THRESHOLD, DENSE_SOLVE
 from .system.linalg import solve as linear_solve
 from .system.streamed import streamed_stiffness
 from .timing import Stopwatch
@@ -208,7 +208,8 @@ def solve(scene: Scene, method: EFG | MLPG, disc: Discretization | None = None, 
         # no auxiliary space for the tied (component-wise) functions: "auto" is SuperLU
         system, modes, aux, K = disc.images.reduce(system), disc.images.part_modes(modes), None, None
         solver = "direct" if solver == "auto" else solver
-    z, info = linear_solve(system, solver, near_nullspace=modes, auxiliary=aux, stiffness=K)
+    z, info = linear_solve(system, solver, near_nullspace=modes, auxiliary=aux, stiffness=K,
+                           dense=DENSE_SOLVE)  # small SPD: dense Cholesky (full enrichment columns)
     coefficients = system.coefficients(z)
     forces = system.support_forces(z) if system.support_forces is not None else None
     sw.lap("solve")

@@ -177,8 +177,20 @@ class Approximation:
         else:  # all points as if crack-free, then the few near a crack redone under the
             # rules: the arrays are allocated once (no zeros plus a copy of the plain rows)
             mask = nb.mask.copy()
-            sp = self._mls(x, nb, derivatives)
-            vals = [sp.values, sp.ddx, sp.ddy]
+            if resolve_backend("auto", len(x)) == "numpy":  # small: the plain rows alone
+                # (the near rows can be most of them; each row's arithmetic is its own)
+                vals = [np.zeros(nb.idx.shape) if i == 0 or derivatives else None for i in range(3)]
+                away = np.ones(len(x), bool)
+                away[rows] = False
+                plain = np.flatnonzero(away)
+                if len(plain):
+                    sp = self._mls(x[plain], nb.subset(plain), derivatives)
+                    for v, r in zip(vals, (sp.values, sp.ddx, sp.ddy), strict=True):
+                        if v is not None:
+                            v[plain] = r
+            else:
+                sp = self._mls(x, nb, derivatives)
+                vals = [sp.values, sp.ddx, sp.ddy]
             cw = self.sight_weights(x[rows], nb.subset(rows))
             # the rows near a crack take the kernel of all the points (compiled for those
             # already), not the numpy path their smaller number would choose

@@ -243,12 +243,16 @@ def interpolant(vals, nb, rows, qn, chunk: int = 65536) -> np.ndarray:
     """sum_I v_I(x) q_I at the points ``rows``, shape (m, c), from the padded shape-function
     values ``vals (n, k)`` (or a derivative) and the nodal values ``qn (n_nodes, c)``: the
     MLS interpolant of seed 003 Eq. 44b on the rows that need it, in chunks of rows (no
-    operator over all points, no (n, k, c) array)."""
+    operator over all points, no (n, k, c) array): each chunk's valid (point, neighbour)
+    values as a CSR operator, times ``qn`` (the sums over a row's neighbours in their order)."""
     out = np.empty((len(rows), qn.shape[1]))
     for s in range(0, len(rows), chunk):
         r = rows[s:s + chunk]
-        v = np.where(nb.mask[r], vals[r], 0.0)
-        out[s:s + chunk] = np.einsum("qk,qkc->qc", v, qn[nb.idx[r]])
+        m = nb.mask[r]
+        indptr = np.zeros(len(r) + 1, np.int64)
+        np.cumsum(m.sum(axis=1), out=indptr[1:])
+        op = csr_array((vals[r][m], nb.idx[r][m], indptr), shape=(len(r), len(qn)))
+        out[s:s + chunk] = op @ qn
     return out
 
 

@@ -86,8 +86,8 @@ def tip_coordinates(x: np.ndarray, geom: TipGeometry, side: np.ndarray | None = 
     Q = geom.tip.rotation
     loc = (np.atleast_2d(x) - geom.tip.x) @ Q.T  # tip frame
     n = len(loc)
-    J = np.broadcast_to(np.eye(2), (n, 2, 2)).copy()  # d x*_loc / d x_loc
     if geom.kink is not None:
+        J = np.broadcast_to(np.eye(2), (n, 2, 2)).copy()  # d x*_loc / d x_loc
         k = Q @ (geom.kink - geom.tip.x)
         rel = loc - k
         behind = rel[:, 0] < 0
@@ -117,6 +117,8 @@ def tip_coordinates(x: np.ndarray, geom: TipGeometry, side: np.ndarray | None = 
     dr_loc = np.column_stack([np.cos(theta), np.sin(theta)])
     dt_loc = np.column_stack([-np.sin(theta), np.cos(theta)]) / safe[:, None]
     # chain rule: d/dx_loc = J^T d/dx*, then back to global: d/dx = Q^T d/dx_loc
+    if geom.kink is None:  # J = I
+        return r, theta, dr_loc @ Q, dt_loc @ Q
     grad_r = np.einsum("nji,nj->ni", J, dr_loc) @ Q
     grad_t = np.einsum("nji,nj->ni", J, dt_loc) @ Q
     return r, theta, grad_r, grad_t
@@ -163,9 +165,10 @@ def williams_modes(F, dF, geom: TipGeometry, mu: float, kappa: float):
     dQ : ndarray (n, 2, 2, 2)
         ``dQ[:, mode, comp, dir]`` = d Q_comp / d x_dir.
     """
-    Mg = williams_matrix(geom, mu, kappa)
-    Q = np.einsum("mcf,nf->nmc", Mg, F)
-    dQ = np.einsum("mcf,ndf->nmcd", Mg, dF)
+    Mg = williams_matrix(geom, mu, kappa).reshape(4, 4)  # (mode comp, function)
+    n = len(F)  # products with the 4 x 4 matrix (the three-operand einsums loop 5x slower)
+    Q = (F @ Mg.T).reshape(n, 2, 2)
+    dQ = (dF @ Mg.T).reshape(n, 2, 2, 2).transpose(0, 2, 3, 1)  # (n, dir, mode, comp) -> ...
     return Q, dQ
 
 

@@ -18,7 +18,7 @@ import numpy as np
 from scipy.sparse import csr_array, vstack
 
 from ..problem.crack import FACE_OFFSET
-from ..problem.scene import evaluate_component, evaluate_vector
+from ..problem.scene import evaluate_component, evaluate_components, evaluate_vector
 from ..quadrature.boundary import boundary_points, break_parameters, edge_rule, merge_knots
 from ..quadrature.rules import gauss_legendre
 from ..system.assemble import load_vector
@@ -108,11 +108,10 @@ def essential_conditions(disc: Discretization, derivatives: bool) -> Dirichlet:
                 sup.edge(x), bool)
             selected += int(keep.sum())
             fixed = np.zeros((len(x), 2), bool)
-            value = np.zeros((len(x), 2))
             for c, v in enumerate((sup.ux, sup.uy)):
                 if v is not None:
                     fixed[:, c] = keep
-                    value[:, c] = evaluate_component(v, x, c, scene.material)
+            value = evaluate_components(sup.ux, sup.uy, x, scene.material)  # a Field once
             nhat = len(hat) - 1
             seg = np.clip(np.searchsorted(hat, s, side="right") - 1, 0, nhat - 1)
             comps = {c for c, v in enumerate((sup.ux, sup.uy)) if v is not None}

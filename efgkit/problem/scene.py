@@ -24,7 +24,7 @@ from .supports import PointSupport, Pressure
 from .symmetry import Symmetry, full_domain
 
 __all__ = ["MIN_CRACK_LENGTH", "VALUE_LIMIT", "PointSupport", "Pressure", "Scene", "Support", "Traction",
-           "evaluate_vector", "evaluate_component"]
+           "evaluate_vector", "evaluate_component", "evaluate_components"]
 
 Where = str | Callable  # edge name or x (n, 2) -> bool mask (n,)
 
@@ -287,6 +287,17 @@ def evaluate_component(value, x: np.ndarray, comp: int, material: Elastic) -> np
         raise ValueError("a prescribed displacement evaluated to NaN or inf on the boundary")
     _check_evaluated("a prescribed displacement", out)
     return out
+
+
+def evaluate_components(ux, uy, x: np.ndarray, material: Elastic) -> np.ndarray:
+    """Both prescribed components at ``x (n, 2)`` -> (n, 2), 0 where one is None; a
+    :class:`Field` given for both is evaluated once (:func:`evaluate_component` otherwise)."""
+    if ux is uy and isinstance(ux, Field):
+        out = np.asarray(ux.displacement(x, material), dtype=float)  # finite (Field raises)
+        _check_evaluated("a prescribed displacement", out)
+        return out
+    return np.column_stack([np.zeros(len(x)) if v is None else evaluate_component(v, x, c, material)
+                            for c, v in enumerate((ux, uy))])
 
 
 def _check_evaluated(what: str, out: np.ndarray) -> None:

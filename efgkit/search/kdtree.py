@@ -22,10 +22,15 @@ __all__ = ["kdtree_lists"]
 # more than the query of a small cloud (~0.5 ms a call, two calls a solve; docs/performance.md,
 # work_interleaved).
 THREADED = 20_000
+# Up to this many (point, node) pairs every pair is tested, without a tree: at a few hundred
+# points the tree's per-node Python lists cost more than the test of all pairs (the singular
+# patch's 480 points x 10 nodes: 0.06 against 0.3 ms; docs/performance.md, work_interleaved).
+ALL_PAIRS = 50_000
 
 
 def kdtree_lists(x: np.ndarray, nodes: NodeCloud, chunk: int = 65536):
-    """CSR neighbour graph ``(indptr (n_points + 1,), indices)`` by cKDTree, rows ascending.
+    """CSR neighbour graph ``(indptr (n_points + 1,), indices)`` by cKDTree, rows ascending
+    (up to :data:`ALL_PAIRS` (point, node) pairs by testing them all: the same graph).
 
     Examples
     --------
@@ -36,8 +41,15 @@ def kdtree_lists(x: np.ndarray, nodes: NodeCloud, chunk: int = 65536):
     ([0, 2, 3], [0, 1, 1])
     """
     x = np.ascontiguousarray(x, dtype=float)
-    tree = cKDTree(x)
     xn, r = nodes.x, nodes.radius
+    if len(x) * len(xn) <= ALL_PAIRS:  # the same test of every pair, in (point, node) order
+        dx = xn[None, :, 0] - x[:, None, 0]
+        dy = xn[None, :, 1] - x[:, None, 1]
+        near = dx * dx + dy * dy < r * r
+        indptr = np.zeros(len(x) + 1, np.int64)
+        np.cumsum(near.sum(axis=1), out=indptr[1:])
+        return indptr, np.nonzero(near)[1].astype(np.int64)
+    tree = cKDTree(x)
     pts, nds = [], []
     for s in range(0, len(xn), chunk):  # bounded memory: the lists of one chunk of nodes
         found = tree.query_ball_point(xn[s:s + chunk], r[s:s + chunk] * (1 + 1e-9),

@@ -146,10 +146,11 @@ def rigid_body_modes(x: np.ndarray) -> np.ndarray:
     return R
 
 
-def check_rigid_modes(C: csr_array, node_x: np.ndarray) -> None:
-    """Raise :class:`RigidBodyModeError` unless the constraint operator ``C`` fixes all
-    three rigid-body motions (rank 3 of ``C R``)."""
-    if C.shape[0] == 0:
+def check_rigid_modes(C: csr_array, node_x: np.ndarray, rows: int | None = None) -> None:
+    """Raise :class:`RigidBodyModeError` unless the constraint operator ``C`` (its first
+    ``rows`` rows if given) fixes all three rigid-body motions (rank 3 of ``C R``)."""
+    rows = C.shape[0] if rows is None else rows
+    if rows == 0:
         raise RigidBodyModeError(
             "the scene has no essential boundary condition: the body can move as a rigid body. "
             "Add a Support that prescribes ux and uy somewhere (and a rotation restraint)."
@@ -157,10 +158,11 @@ def check_rigid_modes(C: csr_array, node_x: np.ndarray) -> None:
     R = np.zeros((C.shape[1], 3))  # enrichment unknowns (after the nodal ones) stay 0
     R[: 2 * len(node_x)] = rigid_body_modes(node_x)
     R /= np.linalg.norm(R, axis=0)
-    sv = np.linalg.svd(C @ R, compute_uv=False)
+    CR = (C @ R)[:rows]
+    sv = np.linalg.svd(CR, compute_uv=False)
     names = ["translation in x", "translation in y", "rotation"]
     if len(sv) < 3 or sv[-1] < 1e-8 * sv[0]:  # fewer than 3 constraints (one point) never suffice
-        _, _, vt = np.linalg.svd(C @ R)
+        _, _, vt = np.linalg.svd(CR)
         free = names[int(np.argmax(np.abs(vt[-1])))]
         raise RigidBodyModeError(
             f"the essential boundary conditions leave a rigid-body mode free (mostly {free}); "
@@ -229,15 +231,60 @@ def lagrange(K, f, bc: Dirichlet, node_x: np.ndarray, check: bool = True) -> Lin
     return LinearSystem(A, np.concatenate([f, q]), spd=False, n_coeffs=n, support_forces=forces)
 
 
-def _traction_operator(bc: Dirichlet, D: np.ndarray) -> csr_array:
-    """Rows (point, fixed comp) -> t_comp = (D eps(c) . n)_comp at boundary points."""
-    gxx, gxy, gyx, gyy = bc.shape.grad_operators()
-    eps = (gxx, gyy, csr_array(gxy + gyx))
-    sig = [csr_array(sum(D[i, j] * eps[j] for j in range(3) if D[i, j] != 0)) for i in range(3)]
-    nx, ny = diags_array(bc.normal[:, 0]), diags_array(bc.normal[:, 1])
-    tx = csr_array(nx @ sig[0] + ny @ sig[2])
-    ty = csr_array(nx @ sig[2] + ny @ sig[1])
-    return _fixed_rows((tx, ty), bc.fixed)
+DENSE_DOFS = 200  # up to this many unknowns Nitsche's terms are formed in dense arrays
+_VOIGT = np.array([[0, 2], [2, 1]])  # (component, derivative) -> Voigt row (xx, yy, xy)
+
+
+def _triplets(bc: Dirichlet, D: np.ndarray):
+    """(rows, cols, values) of ``[G; T]`` (2 m_fixed, n_dofs): the rows (point, fixed
+    component) of the displacement ``G`` (point-major, as ``value[fixed]``), then those of
+    the traction ``T``, straight from the padded shape functions and the enrichment's COO.
+
+    ``t_c = sum_l n_l sigma_(c l) = sum_(a, j) L_(c a j) du_a/dx_j`` with
+    ``L_(c a j) = sum_l n_l D[v(c, l), v(a, j)]`` (v the Voigt row, engineering shear), so
+    the nodal function phi_I e_b adds ``sum_j L_(c b j) d phi_I / dx_j`` in column 2 I + b
+    and an enrichment gradient entry g_(a j) adds ``L_(c a j) g_(a j)`` (duplicates summed
+    when the CSR is formed). The same operators as the component and gradient operators
+    combined by sparse algebra (G identical, T to rounding), in a few array passes.
+    """
+    sh, fixed = bc.shape, bc.fixed
+    qs, cs = np.nonzero(fixed)
+    m = len(qs)
+    rid = np.full(fixed.shape, -1)
+    rid[qs, cs] = np.arange(m)
+    L = np.einsum("ql,clak->qcak", bc.normal, D[_VOIGT[:, :, None, None], _VOIGT[None, None]])
+    nb = sh.neighbours
+    mask, idx = nb.mask[qs], nb.idx[qs]
+    r = np.broadcast_to(np.arange(m)[:, None], idx.shape)[mask]
+    i2 = 2 * idx[mask]
+    dx, dy = sh.ddx[qs][mask], sh.ddy[qs][mask]
+    Lr = L[qs, cs]  # (m, 2 b, 2 j)
+    rows = [r, m + r, m + r]
+    cols = [i2 + cs[r], i2, i2 + 1]
+    vals = [sh.values[qs][mask]] + [Lr[r, b, 0] * dx + Lr[r, b, 1] * dy for b in (0, 1)]
+    e = sh.extra
+    if e is not None:
+        n2 = 2 * sh.n_functions
+        for c, op in enumerate((e.ux, e.uy)):
+            q, col, v = _coo(op)
+            keep = rid[q, c] >= 0
+            rows.append(rid[q[keep], c])
+            cols.append(col[keep] + n2)
+            vals.append(v[keep])
+        for (a, k), op in zip(((0, 0), (0, 1), (1, 0), (1, 1)), (e.gxx, e.gxy, e.gyx, e.gyy),
+                              strict=True):
+            q, col, v = _coo(op)
+            for c in (0, 1):
+                keep = rid[q, c] >= 0
+                rows.append(m + rid[q[keep], c])
+                cols.append(col[keep] + n2)
+                vals.append(L[q[keep], c, a, k] * v[keep])
+    return m, np.concatenate(rows), np.concatenate(cols), np.concatenate(vals)
+
+
+def _coo(op: csr_array) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(row, column, value) of the stored entries of a CSR ``op``."""
+    return np.repeat(np.arange(op.shape[0]), np.diff(op.indptr)), op.indices, op.data
 
 
 def boundary_traction_term(bc: Dirichlet, D: np.ndarray) -> csr_array:
@@ -250,9 +297,10 @@ def boundary_traction_term(bc: Dirichlet, D: np.ndarray) -> csr_array:
     :mod:`efgkit.system.collocation`); ``K - H - H^T`` that of Eq. (27) below. Needs the
     shape derivatives at the boundary points (``essential_conditions(disc, derivatives=True)``).
     """
-    G = _component_operator(bc.shape, bc.fixed)
+    m, rows, cols, vals = _triplets(bc, D)
+    B = csr_array((vals, (rows, cols)), shape=(2 * m, bc.shape.n_dofs))  # [G; T]
     w = np.broadcast_to(bc.w[:, None], bc.fixed.shape)[bc.fixed]
-    return csr_array(G.T @ diags_array(w) @ _traction_operator(bc, D))
+    return csr_array(csr_array(B[:m]).T @ diags_array(w) @ csr_array(B[m:]))
 
 
 def modified_variational(K, f, bc: Dirichlet, D: np.ndarray, beta: float,
@@ -264,21 +312,42 @@ def modified_variational(K, f, bc: Dirichlet, D: np.ndarray, beta: float,
     ``A = K - G^T W T - T^T W G + beta G^T W G``,
     ``b = f - T^T W ubar + beta G^T W ubar``.
     """
-    G = _component_operator(bc.shape, bc.fixed)
-    if check:
-        check_rigid_modes(G, node_x)
-    T = _traction_operator(bc, D)
+    m, rows, cols, vals = _triplets(bc, D)
+    n = bc.shape.n_dofs
     w = np.broadcast_to(bc.w[:, None], bc.fixed.shape)[bc.fixed]
-    W = diags_array(w)
     ub = bc.value[bc.fixed]
-    H = G.T @ W @ T
-    A = csr_array(K - H - H.T + beta * (G.T @ W @ G))
-    b = f - T.T @ (w * ub) + beta * (G.T @ (w * ub))
+    # A - K = [G; T]^T [[beta W, -W], [-W, 0]] [G; T]: one product of B^T and the rows of
+    # [beta W G - W T; -W G] (formed from the same triplets); dense for a few unknowns
+    if n <= DENSE_DOFS:
+        B = np.zeros((2 * m, n))
+        np.add.at(B, (rows, cols), vals)
+        if check:
+            check_rigid_modes(B, node_x, m)
+        C = np.vstack([w[:, None] * (beta * B[:m] - B[m:]), -w[:, None] * B[:m]])
+        A = csr_array(K.toarray() + B.T @ C)
+        b = f + B.T @ np.concatenate([beta * w * ub, -w * ub])
+    else:
+        B, A, b = _nitsche_sparse(K, f, m, rows, cols, vals, n, w, ub, beta, node_x, check)
 
     def forces(z):  # the consistent flux (sigma^h n - beta (u^h - ubar)) ds at each point
-        c = z[: K.shape[0]]
-        return bc.x, _at_points(bc.fixed, w * (T @ c - beta * (G @ c - ub)))
+        gc, tc = np.split(B @ z[: K.shape[0]], 2)
+        return bc.x, _at_points(bc.fixed, w * (tc - beta * (gc - ub)))
     return LinearSystem(A, b, spd=True, n_coeffs=K.shape[0], support_forces=forces)
+
+
+def _nitsche_sparse(K, f, m, rows, cols, vals, n, w, ub, beta, node_x, check):
+    """``[G; T]``, A and b of :func:`modified_variational` by sparse products."""
+    B = csr_array((vals, (rows, cols)), shape=(2 * m, n))  # [G; T]
+    if check:
+        check_rigid_modes(B, node_x, m)
+    g = rows < m
+    wr = np.where(g, w[np.where(g, rows, rows - m)], 0.0)
+    Bt = csr_array((vals, (cols, rows)), shape=(n, 2 * m))
+    scaled = np.concatenate([np.where(g, beta * wr, -w[np.where(g, rows, rows - m)]) * vals,
+                             -wr[g] * vals[g]])
+    C = csr_array((scaled, (np.concatenate([np.where(g, rows, rows - m), rows[g] + m]),
+                            np.concatenate([cols, cols[g]]))), shape=(2 * m, n))
+    return B, csr_array(K + Bt @ C), f + Bt @ np.concatenate([beta * w * ub, -w * ub])
 
 
 def eliminate(K, f, fixed_dofs: np.ndarray, fixed_values: np.ndarray,

@@ -20,6 +20,7 @@ CG run: :mod:`efgkit.system.conjugate_gradient`) must also stay below ``ERROR_FA
 from __future__ import annotations
 
 import contextlib
+import functools
 import time
 import warnings
 
@@ -33,6 +34,11 @@ from .constraints import LinearSystem
 __all__ = ["solve", "SolverError", "AUTO_AMG_THRESHOLD", "ERROR_FACTOR"]
 
 AUTO_AMG_THRESHOLD = 20_000  # unknowns above which "auto" uses CG for SPD systems
+# What the EFG driver passes as ``dense`` (efgkit.static.solve): its small systems have full
+# enrichment columns (two per tip for the extrinsic MLS), which fill SuperLU's factor; the
+# SENT's 314 unknowns: dense Cholesky 0.7 ms against 2.4 ms, K the same to 3e-14
+# (docs/performance.md, work_interleaved)
+DENSE_SOLVE = 400
 # Augmented-Lagrangian weight: its largest diagonal entry over K's. The Uzawa steps shrink a
 # multiplier mode by 1 / (1 + rho mu); at 1e3 the Kirsch plate (symmetry supports, one component
 # per edge) has a mode with rho mu ~ 0.01: 20 steps left the gap at 5e-8 > rtol and 'auto' fell
@@ -58,12 +64,19 @@ class SolverError(RuntimeError):
     """A linear solve failed or its residual is too large."""
 
 
-def _direct(A, b, spd):
+def _direct(A, b, spd, dense: int = 0):
     """SuperLU. SPD systems keep the diagonal pivots of the symmetric minimum-degree
     ordering of A + A^T (10-40x faster on irregular clouds than threshold pivoting);
     saddle-point (Lagrange) systems need pivoting, and there the column ordering COLAMD
     fills 40% less and runs 3x faster (Kirsch plate, 16.6k unknowns: 4.5 s against
-    13.2 s; with PU enrichment 6x)."""
+    13.2 s; with PU enrichment 6x). SPD systems of at most ``dense`` unknowns: dense
+    Cholesky (LAPACK), SuperLU if it fails."""
+    if spd and A.shape[0] <= dense:  # one BLAS thread: a second one stalls on busy cores
+        from scipy.linalg import cho_factor, cho_solve
+
+        with contextlib.suppress(np.linalg.LinAlgError), _blas_controller().limit(limits=1,
+                                                                                   user_api="blas"):
+            return cho_solve(cho_factor(A.toarray()), b)
     A = csc_array(A)
     opts = dict(permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,
                 options={"SymmetricMode": True}) if spd else dict(permc_spec="COLAMD")
@@ -205,7 +218,8 @@ def _augmented_lagrangian(system, near_nullspace, rtol, auxiliary, stiffness):
 
 
 def solve(system: LinearSystem, solver: str = "auto", near_nullspace=None,
-          rtol: float = 1e-8, *, auxiliary=None, stiffness=None) -> tuple[np.ndarray, dict]:
+          rtol: float = 1e-8, *, auxiliary=None, stiffness=None, dense: int = 0
+          ) -> tuple[np.ndarray, dict]:
     """Solve ``system`` and return (solution z, info).
 
     Parameters
@@ -238,6 +252,9 @@ def solve(system: LinearSystem, solver: str = "auto", near_nullspace=None,
     stiffness : sparse (n_coeffs, n_coeffs), optional
         The stiffness before the essential boundary conditions; ``system.A``
         minus it locates the boundary-layer unknowns.
+    dense : int
+        SPD systems of at most this many unknowns solved directly by dense Cholesky
+        (SuperLU if it fails); 0: SuperLU always. The EFG driver passes :data:`DENSE_SOLVE`.
 
     Returns
     -------
@@ -275,7 +292,7 @@ def solve(system: LinearSystem, solver: str = "auto", near_nullspace=None,
     if use_amg:
         z = _iterative_with_fallback(system, solver, near_nullspace, rtol, auxiliary, stiffness, bnorm, info)
     else:
-        z = _direct(A, b, system.spd)
+        z = _direct(A, b, system.spd, dense)
     _check_residual(A, b, z, bnorm, rtol, info)
     return z, info
 
@@ -319,6 +336,15 @@ def _iterative_with_fallback(system, solver, near_nullspace, rtol, auxiliary, st
             "or a better-conditioned system: the default penalty factor (1e3 E/h) or bc='lagrange' "
             "or 'variational' instead of a large penalty")
     return z
+
+
+@functools.cache
+def _blas_controller():
+    """threadpoolctl's controller of the loaded BLAS libraries, found once per process (~8 ms;
+    its ``limit`` then costs microseconds, a fresh ``threadpool_limits`` ~0.7 ms a call)."""
+    from threadpoolctl import ThreadpoolController
+
+    return ThreadpoolController()
 
 
 def single_blas_thread():
