@@ -176,8 +176,9 @@ def run(wp, rounds: int, problems=None) -> dict:
     return out
 
 
-def section(res: dict, cmd: str, before: dict | None = None) -> str:
-    """The marked section of docs/performance.md."""
+def section(res: dict, cmd: str) -> str:
+    """The marked section of docs/performance.md (the run's table; the notes on it live in the
+    hand-written section ``work_interleaved_notes`` right after it)."""
     lines = ["<!-- begin:work_interleaved -->",
              "## Work against accuracy, interleaved (`benchmarks/work_precision.py --interleaved`)", "",
              f"Command: `{cmd}` ({res['machine']}, {res['date']}; a shared 2-core machine with other "
@@ -207,8 +208,6 @@ def section(res: dict, cmd: str, before: dict | None = None) -> str:
             f"{i['median_efg_s']:.4f} | {i['median_fem_s']:.4f} | **{i['median_ratio']:.2f}** | "
             f"{i['iqr'][0]:.2f} - {i['iqr'][1]:.2f} | {i['ci90'][0]:.2f} - {i['ci90'][1]:.2f} | "
             f"{'yes' if i['decided'] else 'no'} |")
-    if before:
-        lines += ["", before["text"]]
     lines.append("<!-- end:work_interleaved -->")
     return "\n".join(lines) + "\n"
 

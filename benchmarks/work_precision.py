@@ -393,8 +393,7 @@ def interleaved_main(args) -> dict:
            "problems": wi.run(sys.modules[__name__], args.rounds)}
     print(wi.screened_table(res))
     cmd = f"PYTHONPATH=. python benchmarks/work_precision.py --interleaved --rounds {args.rounds}"
-    before = ROOT / "benchmarks" / "out" / "work_interleaved_before.md"
-    text = wi.section(res, cmd, {"text": before.read_text().strip()} if before.exists() else None)
+    text = wi.section(res, cmd)
     print(text)
     if not args.no_write:
         write_json(res, ROOT / "benchmarks" / "out" / "work_interleaved.json")
