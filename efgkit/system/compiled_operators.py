@@ -1,0 +1,185 @@
+"""Compiled operators of the iterative solve: the product with a symmetric matrix from its
+upper triangle, the Chebyshev polynomial ``Y ~ Phi^-1`` and the multigrid V-cycle of the
+auxiliary-space preconditioner (:mod:`efgkit.system.auxiliary`), on the numba kernels of
+:mod:`efgkit.system.solve_kernels`.
+
+Each does what its scipy / pyamg counterpart does (:func:`~efgkit.system.auxiliary.chebyshev_inverse`,
+:func:`~efgkit.system.auxiliary.vcycle`, ``A @ x``) to round-off, in 0.5-0.6 of the time on
+the 97k-node cracked plate (docs/performance.md, solve_stage_notes). They are taken for
+systems of :data:`COMPILED_MIN_UNKNOWNS` unknowns and more (:func:`use_compiled`): below
+that a solve is over before a first compilation (seconds, cached on disk after it) pays.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.sparse import csr_array
+
+__all__ = ["COMPILED_MIN_UNKNOWNS", "CompiledChebyshev", "CompiledVcycle", "SymmetricOperator",
+           "use_compiled"]
+
+# The iterative solves start at linalg.AUTO_AMG_THRESHOLD (20,000) unknowns under "auto".
+COMPILED_MIN_UNKNOWNS = 20_000
+
+
+def use_compiled(n: int) -> bool:
+    """Whether a solve of ``n`` unknowns runs on the compiled operators.
+
+    Examples
+    --------
+    >>> use_compiled(1_000), use_compiled(200_000)
+    (False, True)
+    """
+    return n >= COMPILED_MIN_UNKNOWNS
+
+
+def _unsigned(M: csr_array) -> tuple[np.ndarray, np.ndarray]:
+    """Row pointers (uint64) and column indices (uint32) of the CSR matrix ``M``."""
+    if M.shape[1] >= 2**32:
+        raise ValueError(f"a matrix of {M.shape[1]} columns needs 64-bit column indices: "
+                         "the compiled operators take up to 2**32 - 1")
+    return M.indptr.astype(np.uint64), M.indices.astype(np.uint32)
+
+
+class SymmetricOperator:
+    """``x -> A x`` for a symmetric sparse ``A`` (n, n), stored as its strict upper triangle
+    (unsigned 32-bit indices) and its diagonal: half the memory traffic of a CSR product.
+
+    Attributes
+    ----------
+    shape : (n, n)
+    dtype : float64
+
+    Examples
+    --------
+    >>> A = csr_array(np.array([[4.0, 1.0, 0.0], [1.0, 3.0, 2.0], [0.0, 2.0, 5.0]]))
+    >>> (SymmetricOperator(A) @ np.ones(3)).tolist()
+    [5.0, 6.0, 7.0]
+    """
+
+    def __init__(self, A):
+        from .solve_kernels import upper_counts, upper_fill
+
+        A = csr_array(A)
+        n = A.shape[0]
+        if A.shape != (n, n):
+            raise ValueError(f"A must be square, got shape {A.shape}")
+        counts = np.zeros(n, dtype=np.int64)
+        upper_counts(A.indptr, A.indices, counts)
+        indptr = np.zeros(n + 1, dtype=np.int64)
+        np.cumsum(counts, out=indptr[1:])
+        self.indices = np.empty(indptr[-1], dtype=np.uint32)
+        self.data = np.empty(indptr[-1])
+        self.diag = np.empty(n)
+        upper_fill(A.indptr, A.indices, A.data, indptr, self.indices, self.data, self.diag)
+        self.indptr = indptr.astype(np.uint64)
+        self.shape, self.dtype = (n, n), np.dtype(float)
+
+    def diagonal(self) -> np.ndarray:
+        """The diagonal of ``A`` (n,)."""
+        return self.diag
+
+    def __matmul__(self, x: np.ndarray) -> np.ndarray:
+        from .solve_kernels import symmetric_product
+
+        x = np.ascontiguousarray(x, dtype=float)
+        y = np.empty_like(x)
+        symmetric_product(self.indptr, self.indices, self.data, self.diag, x, y)
+        return y
+
+    matvec = __matmul__
+
+
+class CompiledChebyshev:
+    """``r -> p(F) r`` on (m, 2) blocks: the polynomial of
+    :func:`~efgkit.system.auxiliary.chebyshev_inverse` (same steps, same coefficients; the
+    result agrees to the bit), each step one pass over ``F`` (CSR (m, m))."""
+
+    def __init__(self, F, degree: int, interval):
+        F = csr_array(F)
+        F.sort_indices()
+        self.indptr, self.indices = _unsigned(F)
+        self.data, self.degree = F.data, degree
+        self.interval = tuple(float(v) for v in interval)
+
+    def __call__(self, r: np.ndarray) -> np.ndarray:
+        from .solve_kernels import chebyshev_step
+
+        a, b = self.interval
+        theta, delta = (b + a) / 2, (b - a) / 2
+        sigma = theta / delta
+        rho = 1 / sigma
+        res = np.array(r, dtype=float, order="C")
+        x = np.zeros_like(res)
+        d = res / theta
+        d_next = np.empty_like(d)
+        for _ in range(self.degree):
+            rho_new = 1 / (2 * sigma - rho)
+            chebyshev_step(self.indptr, self.indices, self.data, x, res, d, d_next,
+                           rho_new * rho, 2 * rho_new / delta)
+            d, d_next = d_next, d
+            rho = rho_new
+        return x
+
+
+class _Level:
+    """A level of a pyamg hierarchy as CSR with unsigned indices (explicit zeros dropped)."""
+
+    def __init__(self, level):
+        A = csr_array(level.A)
+        A.eliminate_zeros()
+        A.sort_indices()
+        self.indptr, self.indices = _unsigned(A)
+        self.data = A.data
+        d = A.diagonal()
+        self.diag_inv = np.divide(1.0, d, out=np.zeros_like(d), where=d != 0)
+        self.P = _csr_unsigned(level.P)
+        self.R = _csr_unsigned(level.R)
+
+
+def _csr_unsigned(M):
+    M = csr_array(M)
+    M.eliminate_zeros()
+    return (*_unsigned(M), M.data, M.shape[0])
+
+
+def _product(M, x):
+    from .solve_kernels import csr_product
+
+    indptr, indices, data, rows = M
+    y = np.empty(rows)
+    csr_product(indptr, indices, data, x, y)
+    return y
+
+
+class CompiledVcycle:
+    """``b -> V b``: one V-cycle of a pyamg smoothed-aggregation hierarchy from a zero guess
+    with symmetric Gauss-Seidel (one forward and one backward sweep) before and after the
+    coarse correction, as :func:`~efgkit.system.auxiliary.vcycle` runs it with
+    :data:`~efgkit.system.auxiliary.AMG_OPTIONS` (pyamg's BSR sweeps are point-wise: the
+    same sweeps on the CSR form of each level)."""
+
+    def __init__(self, levels, coarse):
+        self.levels = [_Level(lv) for lv in levels[:-1]]
+        self.coarse = coarse
+
+    def __call__(self, b: np.ndarray, i: int = 0) -> np.ndarray:
+        from .solve_kernels import gauss_seidel_sweep
+
+        if i == len(self.levels):
+            return self.coarse.solve(b)
+        lv = self.levels[i]
+        b = np.ascontiguousarray(b, dtype=float)
+        x = np.zeros_like(b)
+        args = (lv.indptr, lv.indices, lv.data, lv.diag_inv, x, b)
+        gauss_seidel_sweep(*args, True)
+        gauss_seidel_sweep(*args, False)
+        r = np.empty_like(b)
+        from .solve_kernels import csr_product
+
+        csr_product(lv.indptr, lv.indices, lv.data, x, r)
+        np.subtract(b, r, out=r)
+        x += _product(lv.P, self(_product(lv.R, r), i + 1))
+        gauss_seidel_sweep(*args, True)
+        gauss_seidel_sweep(*args, False)
+        return x
