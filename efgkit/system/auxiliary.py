@@ -298,14 +298,23 @@ def auxiliary_preconditioner(A: csr_array, K: csr_array, x: np.ndarray, phi: csr
         def V(b):
             return vcycle(ml.levels, coarse, b)
 
+    every = bool(mask.all())  # no interior coefficient eliminated: no scatter needed
+
     def aux(r):  # Y V Y^T on the interior unknowns of r (n,), zero elsewhere
-        ri = np.zeros(2 * ni)
-        ri[mask] = r[isys]
-        s = Yt(ri.reshape(ni, 2)).ravel()[mask]
-        e = np.zeros(2 * ni)
-        e[mask] = V(s)
+        if every:
+            ri = r[isys]
+        else:
+            ri = np.zeros(2 * ni)
+            ri[mask] = r[isys]
+        s = Yt(ri.reshape(ni, 2)).ravel()
+        if every:
+            e = V(s)
+        else:
+            e = np.zeros(2 * ni)
+            e[mask] = V(s[mask])
         z = np.zeros(n)
-        z[isys] = Y(e.reshape(ni, 2)).ravel()[mask]
+        y = Y(e.reshape(ni, 2)).ravel()
+        z[isys] = y if every else y[mask]
         return z
 
     if not SMOOTHER:  # the additive form (before)

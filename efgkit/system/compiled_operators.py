@@ -23,21 +23,19 @@ COMPILED_MIN_UNKNOWNS = 20_000
 
 
 def use_compiled(n: int) -> bool:
-    """Whether a solve of ``n`` unknowns runs on the compiled operators.
+    """Whether a solve of ``n`` unknowns runs on the compiled operators (from
+    :data:`COMPILED_MIN_UNKNOWNS` to 2**32 - 1 unknowns: their column indices are 32-bit).
 
     Examples
     --------
     >>> use_compiled(1_000), use_compiled(200_000)
     (False, True)
     """
-    return n >= COMPILED_MIN_UNKNOWNS
+    return COMPILED_MIN_UNKNOWNS <= n < 2**32
 
 
 def _unsigned(M: csr_array) -> tuple[np.ndarray, np.ndarray]:
     """Row pointers (uint64) and column indices (uint32) of the CSR matrix ``M``."""
-    if M.shape[1] >= 2**32:
-        raise ValueError(f"a matrix of {M.shape[1]} columns needs 64-bit column indices: "
-                         "the compiled operators take up to 2**32 - 1")
     return M.indptr.astype(np.uint64), M.indices.astype(np.uint32)
 
 
@@ -154,14 +152,17 @@ def _product(M, x):
 
 class CompiledVcycle:
     """``b -> V b``: one V-cycle of a pyamg smoothed-aggregation hierarchy from a zero guess
-    with symmetric Gauss-Seidel (one forward and one backward sweep) before and after the
-    coarse correction, as :func:`~efgkit.system.auxiliary.vcycle` runs it with
+    with Gauss-Seidel sweeps before and after the coarse correction, by default symmetric
+    ones (one forward and one backward sweep, ``sweeps=((True, False), (True, False))``: True
+    is a forward sweep), as :func:`~efgkit.system.auxiliary.vcycle` runs it with
     :data:`~efgkit.system.auxiliary.AMG_OPTIONS` (pyamg's BSR sweeps are point-wise: the
-    same sweeps on the CSR form of each level)."""
+    same sweeps on the CSR form of each level). The cycle is symmetric when the sweeps after
+    are those before, reversed and each turned around."""
 
-    def __init__(self, levels, coarse):
+    def __init__(self, levels, coarse, sweeps=((True, False), (True, False))):
         self.levels = [_Level(lv) for lv in levels[:-1]]
         self.coarse = coarse
+        self.pre, self.post = (tuple(bool(f) for f in s) for s in sweeps)
 
     def __call__(self, b: np.ndarray, i: int = 0) -> np.ndarray:
         from .solve_kernels import gauss_seidel_sweep
@@ -172,14 +173,10 @@ class CompiledVcycle:
         b = np.ascontiguousarray(b, dtype=float)
         x = np.zeros_like(b)
         args = (lv.indptr, lv.indices, lv.data, lv.diag_inv, x, b)
-        gauss_seidel_sweep(*args, True)
-        gauss_seidel_sweep(*args, False)
-        r = np.empty_like(b)
-        from .solve_kernels import csr_product
-
-        csr_product(lv.indptr, lv.indices, lv.data, x, r)
-        np.subtract(b, r, out=r)
+        for forward in self.pre:
+            gauss_seidel_sweep(*args, forward)
+        r = b - _product((lv.indptr, lv.indices, lv.data, len(b)), x)
         x += _product(lv.P, self(_product(lv.R, r), i + 1))
-        gauss_seidel_sweep(*args, True)
-        gauss_seidel_sweep(*args, False)
+        for forward in self.post:
+            gauss_seidel_sweep(*args, forward)
         return x
