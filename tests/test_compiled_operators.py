@@ -19,13 +19,19 @@ from efgkit.system import compiled_operators, linalg
 from efgkit.system.assemble import stiffness
 from efgkit.system.auxiliary import (
     AMG_OPTIONS,
+    VCYCLE_SMOOTHERS,
     auxiliary_preconditioner,
     chebyshev_inverse,
     coarse_solver,
     vcycle,
 )
 from efgkit.system.auxiliary_p1 import ROUNDOFF, delaunay_triangles, p1_stiffness
-from efgkit.system.compiled_operators import CompiledChebyshev, CompiledVcycle, SymmetricOperator
+from efgkit.system.compiled_operators import (
+    CompiledChebyshev,
+    CompiledVcycle,
+    SymmetricOperator,
+    sweeps_of,
+)
 from efgkit.system.constraints import rigid_body_modes
 
 
@@ -58,23 +64,32 @@ def test_compiled_chebyshev_is_the_same_polynomial():
         assert np.abs(got - expected).max() <= 1e-14 * np.abs(expected).max()  # measured 0 (the same sums)
 
 
-def test_compiled_vcycle_is_pyamgs():
-    """One V-cycle on the P1 stiffness of a perturbed grid (four levels with BSR levels below
-    the first) against :func:`vcycle` with pyamg's smoothers; the cycle is symmetric."""
+@pytest.mark.parametrize("smoothers", [{}, VCYCLE_SMOOTHERS], ids=["symmetric", "efg"])
+def test_compiled_vcycle_is_pyamgs(smoothers):
+    """One V-cycle on the P1 stiffness of a perturbed grid (levels in BSR below the first)
+    against :func:`vcycle` with pyamg's smoothers, symmetric Gauss-Seidel on every level or the
+    EFG preconditioner's (one forward sweep down, one backward up below the first level); the
+    cycle is symmetric either way."""
     import pyamg
 
     x = _grid(30, np.random.default_rng(2))
     P = p1_stiffness(x, np.array([[1.1, 0.3, 0.0], [0.3, 1.1, 0.0], [0.0, 0.0, 0.4]]))
     P = csr_array(P + coo_array((np.full(2, 1.0), ([0, 1], [0, 1])), shape=P.shape))  # pinned
-    ml = pyamg.smoothed_aggregation_solver(P, B=rigid_body_modes(x), **(AMG_OPTIONS | {"max_coarse": 50}))
+    options = AMG_OPTIONS | {"max_coarse": 50} | smoothers
+    ml = pyamg.smoothed_aggregation_solver(P, B=rigid_body_modes(x), **options)
     assert len(ml.levels) >= 3 and ml.levels[1].A.format == "bsr"
     coarse = coarse_solver(ml.levels[-1].A)
     b = np.random.default_rng(3).standard_normal(P.shape[0])
-    V = CompiledVcycle(ml.levels, coarse)
+    V = CompiledVcycle(ml.levels, coarse, sweeps_of(options["presmoother"], options["postsmoother"]))
     expected = vcycle(ml.levels, coarse, b)
     assert np.abs(V(b) - expected).max() <= 1e-12 * np.abs(expected).max()  # measured 2e-15
     u, v = np.random.default_rng(4).standard_normal((2, P.shape[0]))
     assert abs(u @ V(v) - v @ V(u)) <= 1e-12 * abs(u @ V(u))
+
+
+def test_sweeps_of_refuses_other_smoothers():
+    with pytest.raises(ValueError, match=r"runs Gauss-Seidel sweeps only, got \('jacobi', \{'omega'"):
+        sweeps_of(("jacobi", {"omega": 0.5}), ("gauss_seidel", {"sweep": "symmetric"}))
 
 
 def test_p1_stiffness_is_the_element_sum_on_qhulls_triangles():

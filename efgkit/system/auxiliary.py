@@ -38,7 +38,11 @@ A-orthogonal projections; so it drives CG on the EFG system. On the cracked
 plate of 97k nodes (Lagrange, 2 Uzawa steps) this takes 97-100 CG iterations
 against 173-176 of the additive form without the Jacobi steps (degree 8), for
 about 1.2 times the work per iteration (107 against 90 ms): the solve stage in
-0.6-0.8 of the time (docs/performance.md, solve_stage).
+0.6-0.8 of the time (docs/performance.md, solve_stage). From
+:data:`~efgkit.system.compiled_operators.COMPILED_MIN_UNKNOWNS` unknowns on, the
+polynomials, the V-cycle and the products with ``A`` run on compiled kernels
+(:mod:`efgkit.system.compiled_operators`): the same operator, 60 against 107 ms per
+iteration at 97k nodes (docs/performance.md, solve_stage_notes).
 """
 
 from __future__ import annotations
@@ -63,12 +67,24 @@ CHEBYSHEV_DEGREE = 8
 # bound for a positive definite preconditioner; 1.6 leaves 20 % for the estimate's error).
 AUXILIARY_DEGREE = 6
 SMOOTHER_DAMPING = 1.6
+# Damped Jacobi steps on each side of Y V Y^T. At 97k nodes (compiled operators, CPU of CG,
+# load 2.5-3.4): 1 step 87 iterations, 4.9-5.1 s; 2: 71-72, 5.1-5.3 s; 3: 63, 5.3-5.5 s.
+JACOBI_STEPS = 1
 SMOOTHER = True  # False: the additive form without Jacobi steps (before; for comparisons)
 LANCZOS_STEPS = 12
 CHEBYSHEV_INTERVAL = (0.03, 1.05)  # eigenvalues of Phi: <= 1 (partition of unity), >= ~0.02
 AMG_OPTIONS = dict(symmetry="symmetric", max_coarse=500, improve_candidates=None,
                    presmoother=("gauss_seidel", {"sweep": "symmetric"}),
                    postsmoother=("gauss_seidel", {"sweep": "symmetric"}))
+# The EFG preconditioner's V-cycle: symmetric Gauss-Seidel, except one forward sweep down and
+# one backward sweep up on level 1 (still a symmetric cycle). At 97k nodes level 1 (41k unknowns,
+# 2.1M non-zeros) cost as much as level 0; one sweep on each side there: 87 CG iterations as
+# with symmetric sweeps, CG 4.9-5.1 against 5.4 s CPU (load 2.7-3.4); on level 1 and below:
+# 102-103 iterations; on every level: 100 (docs/performance.md, solve_stage_notes).
+_GS = "gauss_seidel"
+VCYCLE_SMOOTHERS = dict(
+    presmoother=[(_GS, {"sweep": "symmetric"}), (_GS, {"sweep": "forward"}), (_GS, {"sweep": "symmetric"})],
+    postsmoother=[(_GS, {"sweep": "symmetric"}), (_GS, {"sweep": "backward"}), (_GS, {"sweep": "symmetric"})])
 
 
 @dataclass(frozen=True, eq=False)
@@ -272,8 +288,9 @@ def auxiliary_preconditioner(A: csr_array, K: csr_array, x: np.ndarray, phi: csr
         Pi = csr_array(Pi + coo_array((diag[isys[lone]], (lone, lone)), shape=Pi.shape))
     from .constraints import rigid_body_modes
 
+    smoothers = VCYCLE_SMOOTHERS if SMOOTHER else {}
     ml = pyamg.smoothed_aggregation_solver(Pi, B=rigid_body_modes(x)[idof[mask]],
-                                           **AMG_OPTIONS)
+                                           **(AMG_OPTIONS | smoothers))
     coarse = coarse_solver(ml.levels[-1].A)
     t["amg"] = time.perf_counter()
     F = csr_array(phi[inner][:, inner])
@@ -284,10 +301,11 @@ def auxiliary_preconditioner(A: csr_array, K: csr_array, x: np.ndarray, phi: csr
     ni = len(inner)
     degree = AUXILIARY_DEGREE if SMOOTHER else CHEBYSHEV_DEGREE
     if use_compiled(n):
-        from .compiled_operators import CompiledChebyshev, CompiledVcycle
+        from .compiled_operators import CompiledChebyshev, CompiledVcycle, sweeps_of
 
         Y, Yt = (CompiledChebyshev(M, degree, CHEBYSHEV_INTERVAL) for M in (F, Ft))
-        V = CompiledVcycle(ml.levels, coarse)
+        options = AMG_OPTIONS | smoothers
+        V = CompiledVcycle(ml.levels, coarse, sweeps_of(options["presmoother"], options["postsmoother"]))
     else:
         def Y(r):
             return chebyshev_inverse(F, r, degree)
@@ -342,8 +360,11 @@ def auxiliary_preconditioner(A: csr_array, K: csr_array, x: np.ndarray, phi: csr
         else:
             rt = r
         z = w * rt
+        for _ in range(JACOBI_STEPS - 1):
+            z += w * (rt - product @ z)
         z += aux(rt - product @ z)
-        z += w * (rt - product @ z)
+        for _ in range(JACOBI_STEPS):
+            z += w * (rt - product @ z)
         if lu is not None:
             z[lsys] = lu.solve(r[lsys] - AL @ z)
         return z

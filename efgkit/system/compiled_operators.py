@@ -16,10 +16,11 @@ import numpy as np
 from scipy.sparse import csr_array
 
 __all__ = ["COMPILED_MIN_UNKNOWNS", "CompiledChebyshev", "CompiledVcycle", "SymmetricOperator",
-           "use_compiled"]
+           "sweeps_of", "use_compiled"]
 
 # The iterative solves start at linalg.AUTO_AMG_THRESHOLD (20,000) unknowns under "auto".
 COMPILED_MIN_UNKNOWNS = 20_000
+_SWEEPS = {"symmetric": (True, False), "forward": (True,), "backward": (False,)}
 
 
 def use_compiled(n: int) -> bool:
@@ -150,19 +151,47 @@ def _product(M, x):
     return y
 
 
+def sweeps_of(presmoother, postsmoother) -> list:
+    """The Gauss-Seidel sweeps of pyamg smoother options, per level: ``[(pre, post), ...]``
+    with ``pre`` / ``post`` tuples of sweep directions (True: forward), the last entry for all
+    deeper levels as in pyamg. Only Gauss-Seidel without iterations or omega is taken.
+
+    Examples
+    --------
+    >>> sweeps_of([("gauss_seidel", {"sweep": "symmetric"}), ("gauss_seidel", {"sweep": "forward"})],
+    ...           ("gauss_seidel", {"sweep": "backward"}))
+    [((True, False), (False,)), ((True,), (False,))]
+    """
+    def listed(spec):
+        return list(spec) if isinstance(spec, list) else [spec]
+
+    pre, post = listed(presmoother), listed(postsmoother)
+    out = []
+    for i in range(max(len(pre), len(post))):
+        pair = []
+        for spec in (pre[min(i, len(pre) - 1)], post[min(i, len(post) - 1)]):
+            name, opts = spec if isinstance(spec, tuple) else (spec, {})
+            if name != "gauss_seidel" or set(opts) - {"sweep"}:
+                raise ValueError(f"the compiled V-cycle runs Gauss-Seidel sweeps only, got {spec!r}: "
+                                 "use auxiliary.vcycle for other smoothers")
+            pair.append(_SWEEPS[opts.get("sweep", "forward")])
+        out.append(tuple(pair))
+    return out
+
+
 class CompiledVcycle:
     """``b -> V b``: one V-cycle of a pyamg smoothed-aggregation hierarchy from a zero guess
-    with Gauss-Seidel sweeps before and after the coarse correction, by default symmetric
-    ones (one forward and one backward sweep, ``sweeps=((True, False), (True, False))``: True
-    is a forward sweep), as :func:`~efgkit.system.auxiliary.vcycle` runs it with
-    :data:`~efgkit.system.auxiliary.AMG_OPTIONS` (pyamg's BSR sweeps are point-wise: the
-    same sweeps on the CSR form of each level). The cycle is symmetric when the sweeps after
-    are those before, reversed and each turned around."""
+    with Gauss-Seidel sweeps before and after the coarse correction, as
+    :func:`~efgkit.system.auxiliary.vcycle` runs it (pyamg's BSR sweeps are point-wise: the
+    same sweeps on the CSR form of each level). ``sweeps``: per level ``(pre, post)``, each a
+    tuple of sweep directions (True: forward), the last entry for the deeper levels
+    (:func:`sweeps_of`); by default symmetric sweeps on both sides of every level. The cycle is
+    symmetric when each level's ``post`` is its ``pre`` reversed and turned around."""
 
-    def __init__(self, levels, coarse, sweeps=((True, False), (True, False))):
+    def __init__(self, levels, coarse, sweeps=(((True, False), (True, False)),)):
         self.levels = [_Level(lv) for lv in levels[:-1]]
         self.coarse = coarse
-        self.pre, self.post = (tuple(bool(f) for f in s) for s in sweeps)
+        self.sweeps = [tuple(tuple(bool(f) for f in s) for s in pair) for pair in sweeps]
 
     def __call__(self, b: np.ndarray, i: int = 0) -> np.ndarray:
         from .solve_kernels import gauss_seidel_sweep
@@ -173,10 +202,11 @@ class CompiledVcycle:
         b = np.ascontiguousarray(b, dtype=float)
         x = np.zeros_like(b)
         args = (lv.indptr, lv.indices, lv.data, lv.diag_inv, x, b)
-        for forward in self.pre:
+        pre, post = self.sweeps[min(i, len(self.sweeps) - 1)]
+        for forward in pre:
             gauss_seidel_sweep(*args, forward)
         r = b - _product((lv.indptr, lv.indices, lv.data, len(b)), x)
         x += _product(lv.P, self(_product(lv.R, r), i + 1))
-        for forward in self.post:
+        for forward in post:
             gauss_seidel_sweep(*args, forward)
         return x
