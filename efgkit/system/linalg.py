@@ -142,13 +142,10 @@ def _compact(A) -> csr_array:
 
 
 def _product(A):
-    """``A`` itself or, from :data:`~efgkit.system.compiled_operators.COMPILED_MIN_UNKNOWNS`
-    unknowns on, the compiled product from its upper triangle (``A`` symmetric: the SPD
-    systems and the augmented stiffness of the Uzawa steps; 6.3 against 10.8 ms per product
-    at 97k nodes)."""
-    from .compiled_operators import SymmetricOperator, use_compiled
+    """``A`` or its compiled product (:func:`~efgkit.system.compiled_operators.product_operator`)."""
+    from .compiled_operators import product_operator
 
-    return SymmetricOperator(A) if use_compiled(A.shape[0]) else A
+    return product_operator(A)
 
 
 def _iterative(system, near_nullspace, rtol, auxiliary, stiffness):
