@@ -77,8 +77,8 @@ AMG_OPTIONS = dict(symmetry="symmetric", max_coarse=500, improve_candidates=None
                    presmoother=("gauss_seidel", {"sweep": "symmetric"}),
                    postsmoother=("gauss_seidel", {"sweep": "symmetric"}))
 # The EFG preconditioner's V-cycle: symmetric Gauss-Seidel, except one forward sweep down and
-# one backward sweep up on level 1 (still a symmetric cycle). At 97k nodes level 1 (41k unknowns,
-# 2.1M non-zeros) cost as much as level 0; one sweep on each side there: 87 CG iterations as
+# one backward sweep up on level 1 (still a symmetric cycle). At 97k nodes level 1 (44k unknowns,
+# 2.4M non-zeros) cost as much as level 0; one sweep on each side there: 87 CG iterations as
 # with symmetric sweeps, CG 4.9-5.1 against 5.4 s CPU (load 2.7-3.4); on level 1 and below:
 # 102-103 iterations; on every level: 100 (docs/performance.md, solve_stage_notes).
 _GS = "gauss_seidel"

@@ -182,6 +182,9 @@ def _augmented_lagrangian(system, near_nullspace, rtol, auxiliary, stiffness):
     eigenvalues of the Schur complement in the ``D`` metric); ``rho`` puts the largest
     diagonal entry of the augmentation at ``AUGMENTATION`` times K's, as a penalty
     would (1e6: see the measurements at AUGMENTATION), so two steps usually reach ``rtol``.
+    The first step's CG stops at :data:`UZAWA_FIRST_STEP` times the final tolerance (its
+    answer carries the multiplier error anyway); the loop ends after a step at the final
+    tolerance whose gap ``||G c - q||`` is below ``0.5 rtol ||b||``.
     The ``K c + G^T lambda - f`` part of the residual is each step's CG residual, the other
     ``G c - q``. K is ``stiffness`` when given (it is the K block: no copy of it is made).
     """
