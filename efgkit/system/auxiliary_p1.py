@@ -109,12 +109,10 @@ def p1_stiffness(x: np.ndarray, D: np.ndarray, domain=None, cuts=None,
     key = key[order]
     first = np.ones(len(key), bool)
     first[1:] = key[1:] != key[:-1]
-    pair = np.cumsum(first) - 1  # block of each (sorted) element entry
-    m = int(pair[-1]) + 1 if len(pair) else 0
-    data = np.empty((m, 4))
-    for c in range(4):
-        data[:, c] = np.bincount(pair, weights=blocks[order, c], minlength=m)
-    key = key[first]
+    starts = np.flatnonzero(first)  # each node pair's run of element entries
+    m = len(starts)
+    data = np.add.reduceat(blocks[order], starts, axis=0) if m else np.zeros((0, 4))
+    key = key[starts]
     indptr = np.searchsorted(key // n, np.arange(n + 1))
     P = csr_array(bsr_array((data.reshape(m, 2, 2), key % n, indptr), shape=(2 * n, 2 * n)).tocsr())
     # Couplings that cancel in exact arithmetic (on grids) come out as round-off of either
