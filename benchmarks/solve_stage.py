@@ -5,10 +5,14 @@ docs/performance.md.
 Run:  PYTHONPATH=. python benchmarks/solve_stage.py --nodes 2e4 1e5 --rounds 2
       PYTHONPATH=. python benchmarks/solve_stage.py --nodes 1e5 --bcs lagrange variational
       PYTHONPATH=. python benchmarks/solve_stage.py --end-to-end --nodes 2e4 1e5 --rounds 1
+      PYTHONPATH=. python benchmarks/solve_stage.py --end-to-end --before 45781c1 --nodes 2e4 1e5
 
 ``--end-to-end``: whole solves instead, each in a fresh process as benchmarks/scaling.py runs
 them (``scaling.child``: warm-up, then the timed ``solve``), before and after taking turns;
 prints one JSON line per run (wall time, stages, CG statistics, K_I) and writes nothing.
+With ``--before REV`` the "before" runs are the code of git revision REV (exported with ``git
+archive`` to a temporary directory, run from there at its defaults) and "after" this tree at
+its defaults; a line per round gives the after / before ratios of wall, solve stage and CPU.
 
 The plate is examples/edge_crack.toml with its spacings divided by a factor
 (benchmarks/scaling.py; Lagrange multipliers as in the example). Per size one
@@ -129,23 +133,42 @@ def markdown(res: dict, cmd: str) -> str:
     return "\n".join(lines)
 
 
-def end_to_end(n_nodes: float, flag: bool) -> dict:
+def end_to_end(n_nodes: float, flag: bool | None, root: Path = ROOT) -> dict:
     """``scaling.child`` at about ``n_nodes`` nodes in a fresh process with
     ``auxiliary.SMOOTHER`` and ``linalg.SINGLE_BLAS_THREAD`` set to ``flag`` (False: the code
-    before both changes)."""
+    before both changes; None: the defaults), the package and benchmarks of ``root``; the
+    child's CPU time as ``cpu_s``."""
     import json
+    import resource
     import subprocess
 
     factor = math.sqrt(n_nodes / 1170)  # scaling.BASE_NODES
-    code = (f"import json, sys; sys.path.insert(0, {str(ROOT / 'benchmarks')!r}); import scaling; "
-            f"from efgkit.system import auxiliary, linalg; auxiliary.SMOOTHER = {flag!r}; "
-            f"linalg.SINGLE_BLAS_THREAD = {flag!r}; "
-            f"print(json.dumps(scaling.child({factor!r}, {{'bc': 'lagrange'}})))")
+    flags = ("" if flag is None else f"from efgkit.system import auxiliary, linalg; "
+             f"auxiliary.SMOOTHER = {flag!r}; linalg.SINGLE_BLAS_THREAD = {flag!r}; ")
+    code = (f"import json, sys; sys.path.insert(0, {str(root / 'benchmarks')!r}); import scaling; "
+            f"{flags}print(json.dumps(scaling.child({factor!r}, {{'bc': 'lagrange'}})))")
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                          env={**__import__("os").environ, "PYTHONPATH": str(ROOT)})
+                          env={**__import__("os").environ, "PYTHONPATH": str(root)}, cwd=root)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if proc.returncode:
         return {"error": proc.stderr.strip().splitlines()[-1]}
-    return json.loads(proc.stdout.strip().splitlines()[-1])
+    out = json.loads(proc.stdout.strip().splitlines()[-1])
+    out["cpu_s"] = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+    return out
+
+
+def export(rev: str) -> Path:
+    """The tree of git revision ``rev`` in a temporary directory (``git archive``)."""
+    import subprocess
+    import tempfile
+
+    out = Path(tempfile.gettempdir()) / f"efgkit_solve_before_{rev}"
+    if not (out / "efgkit").exists():
+        out.mkdir(parents=True, exist_ok=True)
+        archive = subprocess.run(["git", "-C", str(ROOT), "archive", rev], capture_output=True, check=True)
+        subprocess.run(["tar", "-x", "-C", str(out)], input=archive.stdout, check=True)
+    return out
 
 
 def _ratios(after: list, before: list, key: str) -> str:
@@ -162,19 +185,31 @@ def main(argv=None) -> dict:
                     choices=("lagrange", "variational", "penalty"))
     ap.add_argument("--no-write", action="store_true")
     ap.add_argument("--end-to-end", action="store_true")
+    ap.add_argument("--before", default=None, metavar="REV",
+                    help="--end-to-end: the code of git revision REV as 'before'")
     args = ap.parse_args(argv)
     if args.end_to_end:
         import json
+        import os
 
+        variants = ({name: (flag, ROOT) for name, flag in VARIANTS.items()} if args.before is None
+                    else {"before": (None, export(args.before)), "after": (None, ROOT)})
         for _ in range(args.rounds):
             for n in args.nodes:
-                for name, flag in VARIANTS.items():
-                    r = end_to_end(n, flag)
-                    keep = ("n_nodes", "wall_s", "stages_s", "KI", "KII", "error")
+                runs = {}
+                for name, (flag, root) in variants.items():
+                    load = os.getloadavg()[0]
+                    r = runs[name] = end_to_end(n, flag, root)
+                    keep = ("n_nodes", "wall_s", "stages_s", "compile_s", "KI", "KII", "cpu_s", "error")
                     out = {k: r[k] for k in keep if k in r}
                     out["solver"] = {k: r.get("solver", {}).get(k) for k in
                                      ("iterations", "uzawa_steps", "setup_time", "cg_time")}
-                    print(json.dumps({"variant": name, **out}), flush=True)
+                    print(json.dumps({"variant": name, "load_1min": load, **out}), flush=True)
+                if all("wall_s" in r for r in runs.values()):
+                    a, b = runs["after"], runs["before"]
+                    print(json.dumps({"nodes": a["n_nodes"], "after/before wall": a["wall_s"] / b["wall_s"],
+                                      "solve": a["stages_s"]["solve"] / b["stages_s"]["solve"],
+                                      "cpu": a["cpu_s"] / b["cpu_s"]}), flush=True)
         return {}
     res = {"machine": f"{platform.machine()}, {platform.python_implementation()} "
                       f"{platform.python_version()}", "date": time.strftime("%Y-%m-%d"),

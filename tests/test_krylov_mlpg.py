@@ -109,13 +109,17 @@ def grid_space(n_side: int) -> AuxiliarySpace:
 
 
 def test_amg_reports_stagnation_and_a_singular_layer():
-    """A system the P1 surrogate does not resemble (the P1 stiffness with the sign of every
-    other row flipped): GMRES stagnates and "amg" says so; a zero layer block is refused."""
+    """A system the P1 surrogate does not resemble (the P1 stiffness shifted by -0.3 of its
+    diagonal: indefinite, like a Helmholtz operator, with eigenvalues near zero that no SPD
+    surrogate represents): GMRES stagnates (measured: relative residual 4.1e-2 after 80
+    iterations) and "amg" says so; a zero layer block is refused. (The P1 stiffness with the
+    sign of every other row pair flipped stagnated with the hierarchy built from a P1 matrix
+    that stored its cancelled couplings; from the matrix without them GMRES solves it in 41
+    iterations.)"""
     space = grid_space(20)
     n = 2 * len(space.x)
     P = p1_stiffness(space.x, space.D) + csr_array(np.eye(n)) * 1e-3
-    flip = np.where(np.arange(n) % 4 < 2, 1.0, -1.0)
-    A = csr_array(diags_array(flip) @ P)
+    A = csr_array(P - 0.3 * diags_array(P.diagonal()))
     system = LinearSystem(A, np.ones(n), False, n)
     with pytest.raises(SolverError, match="solver='amg': multigrid-preconditioned GMRES stagnated at"):
         krylov.solve_unsymmetric(system, "amg", auxiliary=lambda: (space, np.arange(2)))

@@ -119,22 +119,26 @@ def test_large_penalty_cg_answer_refused_or_replaced(monkeypatch):
     deflection 13.6 % off (7.45e-3 against SuperLU's 8.62e-3; 37 % in the coefficients at 18.9k
     unknowns, h = 0.25). With the Jacobi steps and block Gauss-Seidel of the preconditioner
     (efgkit.system.auxiliary) the one step lands closer, but still wrong: residual 1.9e-10, tip
-    4.4 % off, energy error 0.125. The energy-error bound sees it: "amg" refuses, "auto" takes
-    SuperLU."""
+    4.4 % off, energy error 0.125 (residual 3.3e-10, tip 8.3 % off, energy error 0.145 with
+    the hierarchy of the P1 matrix without stored cancelled couplings). The energy-error bound
+    sees it: "amg" refuses, "auto" takes SuperLU."""
     scene = _cantilever()
     method = EFG(spacing=1.0, bc="penalty", penalty=1e10, solver="amg")
     direct = solve(scene, EFG(spacing=1.0, bc="penalty", penalty=1e10, solver="direct"))
     tip = _tip_uy(direct)
-    # Without the check the old answer comes back, and the bound (measured 0.126; 0.222 with the
-    # additive preconditioner) holds the true stiffness-energy error (measured 0.125; 0.216).
+    # Without the check the old answer comes back, and the bound (measured 0.1436; 0.222 with the
+    # additive preconditioner) tracks the true stiffness-energy error (measured 0.1445; 0.216).
+    # After one CG step the Ritz value is a single Rayleigh quotient, above lambda_min, so the
+    # "bound" is an estimate here: 0.99 of the error with the multigrid hierarchy of the P1
+    # matrix without stored cancelled couplings, 1.006 (0.126 / 0.125) with the one before.
     monkeypatch.setattr(linalg, "ERROR_FACTOR", 1e20)
     wrong = solve(scene, method, disc=direct.disc)
     assert wrong.info["residual"] < 1e-9 and wrong.info["iterations"] == 1
-    assert abs(_tip_uy(wrong) - tip) > 0.03 * abs(tip)  # measured 0.044 (0.136 additive)
+    assert abs(_tip_uy(wrong) - tip) > 0.03 * abs(tip)  # measured 0.083 (0.044 before, 0.136 additive)
     K = stiffness(direct.disc.shape, direct.disc.points.w, scene.material.D)
     e = wrong.coeffs - direct.coeffs
     err = np.sqrt(e @ (K @ e) / (direct.coeffs @ (K @ direct.coeffs)))
-    assert 0.1 < err <= wrong.info["error_bound"] < 0.5
+    assert 0.1 < err < 0.5 and 0.97 * err <= wrong.info["error_bound"] <= 3 * err
     monkeypatch.undo()
 
     with pytest.raises(SolverError) as exc:

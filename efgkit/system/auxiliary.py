@@ -38,7 +38,11 @@ A-orthogonal projections; so it drives CG on the EFG system. On the cracked
 plate of 97k nodes (Lagrange, 2 Uzawa steps) this takes 97-100 CG iterations
 against 173-176 of the additive form without the Jacobi steps (degree 8), for
 about 1.2 times the work per iteration (107 against 90 ms): the solve stage in
-0.6-0.8 of the time (docs/performance.md, solve_stage).
+0.6-0.8 of the time (docs/performance.md, solve_stage). From
+:data:`~efgkit.system.compiled_operators.COMPILED_MIN_UNKNOWNS` unknowns on, the
+polynomials, the V-cycle and the products with ``A`` run on compiled kernels
+(:mod:`efgkit.system.compiled_operators`): the same operator, 60 against 107 ms per
+iteration at 97k nodes (docs/performance.md, solve_stage_notes).
 """
 
 from __future__ import annotations
@@ -50,7 +54,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.sparse import coo_array, csc_array, csr_array
 from scipy.sparse.linalg import LinearOperator, MatrixRankWarning, splu
-from scipy.spatial import Delaunay
+
+from .auxiliary_p1 import p1_stiffness
 
 __all__ = ["AuxiliarySpace", "auxiliary_preconditioner", "chebyshev_inverse", "coarse_solver",
            "jacobi_spectral_radius", "p1_stiffness", "vcycle"]
@@ -62,12 +67,24 @@ CHEBYSHEV_DEGREE = 8
 # bound for a positive definite preconditioner; 1.6 leaves 20 % for the estimate's error).
 AUXILIARY_DEGREE = 6
 SMOOTHER_DAMPING = 1.6
+# Damped Jacobi steps on each side of Y V Y^T. At 97k nodes (compiled operators, CPU of CG,
+# load 2.5-3.4): 1 step 87 iterations, 4.9-5.1 s; 2: 71-72, 5.1-5.3 s; 3: 63, 5.3-5.5 s.
+JACOBI_STEPS = 1
 SMOOTHER = True  # False: the additive form without Jacobi steps (before; for comparisons)
 LANCZOS_STEPS = 12
 CHEBYSHEV_INTERVAL = (0.03, 1.05)  # eigenvalues of Phi: <= 1 (partition of unity), >= ~0.02
 AMG_OPTIONS = dict(symmetry="symmetric", max_coarse=500, improve_candidates=None,
                    presmoother=("gauss_seidel", {"sweep": "symmetric"}),
                    postsmoother=("gauss_seidel", {"sweep": "symmetric"}))
+# The EFG preconditioner's V-cycle: symmetric Gauss-Seidel, except one forward sweep down and
+# one backward sweep up on level 1 (still a symmetric cycle). At 97k nodes level 1 (44k unknowns,
+# 2.4M non-zeros) cost as much as level 0; one sweep on each side there: 87 CG iterations as
+# with symmetric sweeps, CG 4.9-5.1 against 5.4 s CPU (load 2.7-3.4); on level 1 and below:
+# 102-103 iterations; on every level: 100 (docs/performance.md, solve_stage_notes).
+_GS = "gauss_seidel"
+VCYCLE_SMOOTHERS = dict(
+    presmoother=[(_GS, {"sweep": "symmetric"}), (_GS, {"sweep": "forward"}), (_GS, {"sweep": "symmetric"})],
+    postsmoother=[(_GS, {"sweep": "symmetric"}), (_GS, {"sweep": "backward"}), (_GS, {"sweep": "symmetric"})])
 
 
 @dataclass(frozen=True, eq=False)
@@ -93,66 +110,6 @@ class AuxiliarySpace:
     D: np.ndarray
     domain: object = None
     cuts: np.ndarray | None = None
-
-
-def _cut(x: np.ndarray, tri: np.ndarray, cuts: np.ndarray) -> np.ndarray:
-    """Triangles (t,) bool with an edge crossing one of the segments ``cuts (m, 2, 2)``."""
-    from ..problem.geometry import segments_intersect
-
-    p = x[tri]
-    lo, hi = p.min(axis=1), p.max(axis=1)
-    hit = np.zeros(len(tri), bool)
-    for a, b in cuts:
-        near = np.flatnonzero(np.all(lo <= np.maximum(a, b), axis=1)
-                              & np.all(hi >= np.minimum(a, b), axis=1))
-        for i, j in ((0, 1), (1, 2), (2, 0)):
-            aa, bb = np.broadcast_to(a, (len(near), 2)), np.broadcast_to(b, (len(near), 2))
-            hit[near] |= segments_intersect(p[near, i], p[near, j], aa, bb)
-    return hit
-
-
-def p1_stiffness(x: np.ndarray, D: np.ndarray, domain=None, cuts=None,
-                 min_quality: float = 1e-2) -> csr_array:
-    """P1 elasticity stiffness on a Delaunay triangulation of the nodes, (2 n, 2 n).
-
-    DOFs are ``2 i + c`` like the EFG coefficients. Triangles whose centroid
-    lies outside ``domain`` (holes, concave parts), that cross a segment of
-    ``cuts (m, 2, 2)`` (cracks) or whose quality ``4 sqrt(3) area / sum(l^2)``
-    is below ``min_quality`` (collinear boundary nodes) are dropped. The
-    triangulation runs on a copy of the nodes jittered by 1e-3 of the mean
-    spacing (deterministic seed): exact grids are degenerate for Qhull and
-    triangulate four times slower. Element stiffness ``area B^T D B``.
-
-    Examples
-    --------
-    >>> P = p1_stiffness(np.array([[0., 0.], [1., 0.], [0., 1.]]), np.eye(3))
-    >>> P.shape, bool(np.allclose(P @ np.tile([1.0, 0.0], 3), 0))
-    ((6, 6), True)
-    """
-    x = np.asarray(x, dtype=float)
-    n = len(x)
-    s = np.sqrt(max(np.prod(np.ptp(x, axis=0)), 1e-300) / n)
-    jitter = 1e-3 * s * np.random.default_rng(0).uniform(-1.0, 1.0, x.shape)
-    tri = Delaunay(x + jitter).simplices
-    p = x[tri]  # (t, 3, 2)
-    e = p[:, [2, 0, 1]] - p[:, [1, 2, 0]]  # edge opposite vertex i, (t, 3, 2)
-    area = 0.5 * (e[:, 2, 0] * e[:, 0, 1] - e[:, 2, 1] * e[:, 0, 0])
-    keep = 4 * np.sqrt(3) * np.abs(area) > min_quality * np.sum(e**2, axis=(1, 2))
-    if domain is not None:
-        keep &= domain.contains(p.mean(axis=1))
-    if cuts is not None and len(cuts):
-        keep &= ~_cut(x, tri, np.asarray(cuts, dtype=float).reshape(-1, 2, 2))
-    tri, e, area = tri[keep], e[keep], area[keep]
-    g = np.stack([-e[..., 1], e[..., 0]], axis=-1) / (2 * area[:, None, None])  # grad lambda_i
-    nt = len(tri)
-    B = np.zeros((nt, 3, 6))
-    B[:, 0, 0::2], B[:, 1, 1::2] = g[..., 0], g[..., 1]
-    B[:, 2, 0::2], B[:, 2, 1::2] = g[..., 1], g[..., 0]
-    Ke = B.transpose(0, 2, 1) @ (np.asarray(D, dtype=float) @ (B * np.abs(area)[:, None, None]))
-    dof = (2 * tri[:, :, None] + np.arange(2)).reshape(nt, 6)
-    rows = np.broadcast_to(dof[:, :, None], Ke.shape).ravel()
-    cols = np.broadcast_to(dof[:, None, :], Ke.shape).ravel()
-    return csr_array(coo_array((Ke.ravel(), (rows, cols)), shape=(2 * n, 2 * n)))
 
 
 def chebyshev_inverse(F: csr_array, r: np.ndarray, degree: int | None = None,
@@ -259,7 +216,7 @@ def jacobi_spectral_radius(A, rows: np.ndarray, steps: int = LANCZOS_STEPS) -> f
 
 def auxiliary_preconditioner(A: csr_array, K: csr_array, x: np.ndarray, phi: csr_array,
                              D: np.ndarray, free: np.ndarray | None = None, domain=None,
-                             cuts=None) -> tuple[LinearOperator, dict]:
+                             cuts=None, *, product=None, bc_terms=None) -> tuple[LinearOperator, dict]:
     """The auxiliary-space preconditioner of ``A`` (module docstring).
 
     Parameters
@@ -279,25 +236,40 @@ def auxiliary_preconditioner(A: csr_array, K: csr_array, x: np.ndarray, phi: csr
         Coefficient index of each unknown (eliminated systems).
     domain, cuts
         Passed to :func:`p1_stiffness`.
+    product : operator, optional
+        ``x -> A x`` with a ``diagonal()`` (e.g.
+        :class:`~efgkit.system.compiled_operators.SymmetricOperator`); ``A`` itself by default.
+    bc_terms : sparse (n, n), optional
+        ``A - K`` on the unknowns when the caller has it (the augmentation of the Uzawa
+        steps): its non-zero rows are the boundary layer (else found from ``A - K``).
 
     Returns
     -------
     M : LinearOperator (n, n)
-        Approximates ``A^-1``.
+        Approximates ``A^-1``. From
+        :data:`~efgkit.system.compiled_operators.COMPILED_MIN_UNKNOWNS` unknowns on, its
+        Chebyshev polynomials and V-cycle are the compiled ones
+        (:mod:`efgkit.system.compiled_operators`), the same operator to round-off.
     info : dict
         Setup seconds per part (``t_*``) and the block sizes.
     """
     import pyamg
 
+    from .compiled_operators import use_compiled
+
     t = {"start": time.perf_counter()}
     n, nn = A.shape[0], len(x)
+    product = A if product is None else product
+    diag = product.diagonal()
     free = np.arange(K.shape[0]) if free is None else np.asarray(free)
     P = p1_stiffness(x, D, domain, cuts)
     t["p1"] = time.perf_counter()
     # Boundary layer: unknowns whose rows the BC terms change, grown to whole nodes.
-    Ksys = K if len(free) == K.shape[0] and np.array_equal(free, np.arange(K.shape[0])) \
-        else csr_array(K[free][:, free])
-    Bc = csr_array(A - Ksys)
+    if bc_terms is None:
+        Ksys = K if len(free) == K.shape[0] and np.array_equal(free, np.arange(K.shape[0])) \
+            else csr_array(K[free][:, free])
+        bc_terms = A - Ksys
+    Bc = csr_array(bc_terms)
     Bc.eliminate_zeros()
     touched = free[np.diff(Bc.indptr) > 0]
     layer_node = np.zeros(nn, bool)
@@ -311,14 +283,14 @@ def auxiliary_preconditioner(A: csr_array, K: csr_array, x: np.ndarray, phi: csr
     lsys = np.setdiff1d(np.arange(n), isys)
     t["layer"] = time.perf_counter()
     Pi = csr_array(P[idof[mask]][:, idof[mask]])
-    diag = Pi.diagonal()
-    if np.any(diag <= 0):  # nodes left without triangles: fall back to A's diagonal
-        lone = np.flatnonzero(diag <= 0)
-        Pi = csr_array(Pi + coo_array((A.diagonal()[isys[lone]], (lone, lone)), shape=Pi.shape))
+    lone = np.flatnonzero(Pi.diagonal() <= 0)
+    if len(lone):  # nodes left without triangles: fall back to A's diagonal
+        Pi = csr_array(Pi + coo_array((diag[isys[lone]], (lone, lone)), shape=Pi.shape))
     from .constraints import rigid_body_modes
 
+    smoothers = VCYCLE_SMOOTHERS if SMOOTHER else {}
     ml = pyamg.smoothed_aggregation_solver(Pi, B=rigid_body_modes(x)[idof[mask]],
-                                           **AMG_OPTIONS)
+                                           **(AMG_OPTIONS | smoothers))
     coarse = coarse_solver(ml.levels[-1].A)
     t["amg"] = time.perf_counter()
     F = csr_array(phi[inner][:, inner])
@@ -328,15 +300,39 @@ def auxiliary_preconditioner(A: csr_array, K: csr_array, x: np.ndarray, phi: csr
     t["layer_lu"] = time.perf_counter()
     ni = len(inner)
     degree = AUXILIARY_DEGREE if SMOOTHER else CHEBYSHEV_DEGREE
+    if use_compiled(n):
+        from .compiled_operators import CompiledChebyshev, CompiledVcycle, sweeps_of
+
+        Y, Yt = (CompiledChebyshev(M, degree, CHEBYSHEV_INTERVAL) for M in (F, Ft))
+        options = AMG_OPTIONS | smoothers
+        V = CompiledVcycle(ml.levels, coarse, sweeps_of(options["presmoother"], options["postsmoother"]))
+    else:
+        def Y(r):
+            return chebyshev_inverse(F, r, degree)
+
+        def Yt(r):
+            return chebyshev_inverse(Ft, r, degree)
+
+        def V(b):
+            return vcycle(ml.levels, coarse, b)
+
+    every = bool(mask.all())  # no interior coefficient eliminated: no scatter needed
 
     def aux(r):  # Y V Y^T on the interior unknowns of r (n,), zero elsewhere
-        ri = np.zeros(2 * ni)
-        ri[mask] = r[isys]
-        s = chebyshev_inverse(Ft, ri.reshape(ni, 2), degree).ravel()[mask]
-        e = np.zeros(2 * ni)
-        e[mask] = vcycle(ml.levels, coarse, s)
+        if every:
+            ri = r[isys]
+        else:
+            ri = np.zeros(2 * ni)
+            ri[mask] = r[isys]
+        s = Yt(ri.reshape(ni, 2)).ravel()
+        if every:
+            e = V(s)
+        else:
+            e = np.zeros(2 * ni)
+            e[mask] = V(s[mask])
         z = np.zeros(n)
-        z[isys] = chebyshev_inverse(F, e.reshape(ni, 2), degree).ravel()[mask]
+        y = Y(e.reshape(ni, 2)).ravel()
+        z[isys] = y if every else y[mask]
         return z
 
     if not SMOOTHER:  # the additive form (before)
@@ -349,22 +345,26 @@ def auxiliary_preconditioner(A: csr_array, K: csr_array, x: np.ndarray, phi: csr
         info = _info(t)
         info.update(layer=len(lsys), interior=len(isys), levels=len(ml.levels))
         return LinearOperator((n, n), matvec=apply, dtype=float), info
-    lam = jacobi_spectral_radius(A, isys)
+    lam = jacobi_spectral_radius(product, isys)
     w = np.zeros(n)  # omega D^-1 on the interior, 0 on the layer
-    w[isys] = SMOOTHER_DAMPING / lam / A.diagonal()[isys]
+    w[isys] = SMOOTHER_DAMPING / lam / diag[isys]
     AL = csr_array(A[lsys]) if lu is not None else None  # (n_layer, n): A_LL, A_LI; A_IL = A_LI^T
+    ALt = csr_array(AL.T) if lu is not None else None
     t["smoother"] = time.perf_counter()
 
     def apply_block_gs(r):
         r = np.asarray(r).ravel()
         if lu is not None:  # layer, then the interior against its residual, then the layer again
             zl = lu.solve(r[lsys])
-            rt = r - AL.T @ zl  # its interior part r_I - A_IL z_L (the layer part unused)
+            rt = r - ALt @ zl  # its interior part r_I - A_IL z_L (the layer part unused)
         else:
             rt = r
         z = w * rt
-        z += aux(rt - A @ z)
-        z += w * (rt - A @ z)
+        for _ in range(JACOBI_STEPS - 1):
+            z += w * (rt - product @ z)
+        z += aux(rt - product @ z)
+        for _ in range(JACOBI_STEPS):
+            z += w * (rt - product @ z)
         if lu is not None:
             z[lsys] = lu.solve(r[lsys] - AL @ z)
         return z

@@ -196,11 +196,14 @@ def amg_gmres(system: LinearSystem, space: AuxiliarySpace, layer, rtol: float = 
 
     Examples
     --------
+    Two layer nodes: with one, the P1 block of the other three keeps a rotation about it and
+    is singular (its pseudo-inverse makes ``M`` singular).
+
     >>> from efgkit.system.auxiliary import AuxiliarySpace
     >>> x = np.array([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]])
     >>> A = csr_array(np.eye(8) * 2.0)
-    >>> z, info = amg_gmres(LinearSystem(A, np.ones(8), False, 8),
-    ...                     AuxiliarySpace(x, csr_array(np.eye(4)), np.eye(3)), [0, 1])
+    >>> z, info = amg_gmres(LinearSystem(A, np.ones(8), False, 8),  # layer: nodes 0 and 1
+    ...                     AuxiliarySpace(x, csr_array(np.eye(4)), np.eye(3)), [0, 1, 2, 3])
     >>> bool(np.allclose(z, 0.5)), info["converged"]
     (True, True)
     """
