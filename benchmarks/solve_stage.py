@@ -23,7 +23,7 @@ space, the preconditioner's set-up, CG and the Uzawa steps, the coefficients) an
 "constraints", and the process's CPU time over both (a waiting process accrues none).
 "before" is ``auxiliary.SMOOTHER = False``: the additive preconditioner of degree 8 without
 Jacobi steps, the code before this change (and, from the commit that added it,
-``linalg.SINGLE_BLAS_THREAD = False``: BLAS on its default threads). The after / before ratio
+``blas_threads.SINGLE_BLAS_THREAD = False``: BLAS on its default threads). The after / before ratio
 of the solve stage is taken per round (the machine is shared: its load moves between rounds).
 """
 
@@ -66,18 +66,18 @@ def build(n_nodes: float):
 
 def run(n_nodes: float, rounds: int, bcs) -> dict:
     from efgkit.static import solve
-    from efgkit.system import auxiliary, linalg
+    from efgkit.system import auxiliary, blas_threads
 
     t0 = time.perf_counter()
     scene, method, disc, K, f = build(n_nodes)
     out = {"n_nodes": disc.nodes.n, "n_dofs": disc.n_dofs, "n_points": disc.points.n,
            "build_s": time.perf_counter() - t0, "runs": {}}
-    keep = auxiliary.SMOOTHER, linalg.SINGLE_BLAS_THREAD
+    keep = auxiliary.SMOOTHER, blas_threads.SINGLE_BLAS_THREAD
     try:
         for _ in range(rounds):
             for bc in bcs:
                 for name, flag in VARIANTS.items():
-                    auxiliary.SMOOTHER = linalg.SINGLE_BLAS_THREAD = flag
+                    auxiliary.SMOOTHER = blas_threads.SINGLE_BLAS_THREAD = flag
                     c0 = time.process_time()
                     sol = solve(scene, replace(method, bc=bc), disc, K, f)
                     cpu = time.process_time() - c0
@@ -93,7 +93,7 @@ def run(n_nodes: float, rounds: int, bcs) -> dict:
                          "KI": tip.KI, "KII": tip.KII})
                     print(n_nodes, bc, name, out["runs"][f"{bc} {name}"][-1], flush=True)
     finally:
-        auxiliary.SMOOTHER, linalg.SINGLE_BLAS_THREAD = keep
+        auxiliary.SMOOTHER, blas_threads.SINGLE_BLAS_THREAD = keep
     return out
 
 
@@ -135,16 +135,18 @@ def markdown(res: dict, cmd: str) -> str:
 
 def end_to_end(n_nodes: float, flag: bool | None, root: Path = ROOT) -> dict:
     """``scaling.child`` at about ``n_nodes`` nodes in a fresh process with
-    ``auxiliary.SMOOTHER`` and ``linalg.SINGLE_BLAS_THREAD`` set to ``flag`` (False: the code
-    before both changes; None: the defaults), the package and benchmarks of ``root``; the
-    child's CPU time as ``cpu_s``."""
+    ``auxiliary.SMOOTHER`` and ``SINGLE_BLAS_THREAD`` (of blas_threads; of linalg before it)
+    set to ``flag`` (False: the code before both changes; None: the defaults), the package
+    and benchmarks of ``root``; the child's CPU time as ``cpu_s``."""
     import json
     import resource
     import subprocess
 
     factor = math.sqrt(n_nodes / 1170)  # scaling.BASE_NODES
     flags = ("" if flag is None else f"from efgkit.system import auxiliary, linalg; "
-             f"auxiliary.SMOOTHER = {flag!r}; linalg.SINGLE_BLAS_THREAD = {flag!r}; ")
+             "import importlib, importlib.util as u; name = 'efgkit.system.blas_threads'; "
+             "bt = importlib.import_module(name) if u.find_spec(name) else linalg; "
+             f"auxiliary.SMOOTHER = {flag!r}; bt.SINGLE_BLAS_THREAD = {flag!r}; ")
     code = (f"import json, sys; sys.path.insert(0, {str(root / 'benchmarks')!r}); import scaling; "
             f"{flags}print(json.dumps(scaling.child({factor!r}, {{'bc': 'lagrange'}})))")
     before = resource.getrusage(resource.RUSAGE_CHILDREN)

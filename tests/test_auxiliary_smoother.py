@@ -111,7 +111,7 @@ def test_solve_stage_benchmark_runs():
 
 
 def test_iterative_solve_runs_on_one_blas_thread(monkeypatch):
-    """CG (and the preconditioner's set-up) run with one BLAS thread (linalg.single_blas_thread:
+    """CG (and the preconditioner's set-up) run with one BLAS thread (blas_threads.single_blas_thread:
     OpenBLAS's spinning threads doubled the CPU time of the solve on the shared machine); the
     caller's setting is restored afterwards."""
     from threadpoolctl import threadpool_info

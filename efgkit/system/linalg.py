@@ -20,7 +20,6 @@ CG run: :mod:`efgkit.system.conjugate_gradient`) must also stay below ``ERROR_FA
 from __future__ import annotations
 
 import contextlib
-import functools
 import time
 import warnings
 
@@ -28,6 +27,7 @@ import numpy as np
 from scipy.sparse import csc_array, csr_array, diags_array
 from scipy.sparse.linalg import LinearOperator, MatrixRankWarning, splu
 
+from .blas_threads import blas_controller, single_blas_thread
 from .conjugate_gradient import energy_error_bound, preconditioned_cg, ritz_range
 from .constraints import LinearSystem
 
@@ -56,7 +56,6 @@ MAX_UZAWA_STEPS = 20
 # 40: 69 + 18, 120: 65 + 20, 400: 61 + 25; at 19.6k nodes 82 + 10 against 66 + 19 at 120
 # (docs/performance.md, solve_stage_notes).
 UZAWA_FIRST_STEP = 100.0
-SINGLE_BLAS_THREAD = True  # the iterative solves run with one BLAS thread (single_blas_thread)
 # An iterative answer is accepted if the bound on its relative energy error (energy_error_bound) is at most
 # ERROR_FACTOR * rtol (1e-3 at the default rtol): the bound over the residual measures how far the
 # conditioning amplifies a residual. Measured bounds, CG to rtol 1e-8 (true errors about half):
@@ -81,7 +80,7 @@ def _direct(A, b, spd, dense: int = 0):
     if spd and A.shape[0] <= dense:  # one BLAS thread: a second one stalls on busy cores
         from scipy.linalg import cho_factor, cho_solve
 
-        with contextlib.suppress(np.linalg.LinAlgError), _blas_controller().limit(limits=1,
+        with contextlib.suppress(np.linalg.LinAlgError), blas_controller().limit(limits=1,
                                                                                    user_api="blas"):
             return cho_solve(cho_factor(A.toarray()), b)
     A = csc_array(A)
@@ -360,34 +359,6 @@ def _iterative_with_fallback(system, solver, near_nullspace, rtol, auxiliary, st
             "or a better-conditioned system: the default penalty factor (1e3 E/h) or bc='lagrange' "
             "or 'variational' instead of a large penalty")
     return z
-
-
-@functools.cache
-def _blas_controller():
-    """threadpoolctl's controller of the loaded BLAS libraries, found once per process (~8 ms;
-    its ``limit`` then costs microseconds, a fresh ``threadpool_limits`` ~0.7 ms a call)."""
-    from threadpoolctl import ThreadpoolController
-
-    return ThreadpoolController()
-
-
-def single_blas_thread():
-    """A context in which BLAS runs on one thread (threadpoolctl; a null context without it).
-
-    CG and the preconditioner's set-up call BLAS only on vectors (dot products, norms, the
-    Arnoldi steps of pyamg's spectral-radius estimates), where a second thread gains
-    microseconds, but OpenBLAS's threads spin between calls and stall when the cores are busy:
-    on the 2-core machine shared with other jobs the Uzawa solve of the cracked plate (97k
-    nodes) took 24-25 s of CPU in 13-15 s with two threads against 13-16 s in the same wall time
-    with one, and pyamg's set-up 1.0-5.6 s against 0.5-1.4 s (docs/performance.md,
-    solve_stage_notes)."""
-    if not SINGLE_BLAS_THREAD:
-        return contextlib.nullcontext()
-    try:
-        from threadpoolctl import threadpool_limits
-    except ImportError:  # pragma: no cover - a declared dependency
-        return contextlib.nullcontext()
-    return threadpool_limits(1, user_api="blas")
 
 
 def _untrusted(extra, res, rtol) -> str:
