@@ -112,18 +112,20 @@ def _row_chunks(t_ptr: np.ndarray, t_pos: np.ndarray, k: int, threads: int) -> t
     return order, _spans(np.concatenate([[0], cuts, [n]]))
 
 
-def _compiled(test: Shape, trial: Shape, w: np.ndarray, D: np.ndarray) -> csr_array:
+def _compiled(test: Shape, trial: Shape, w: np.ndarray, D: np.ndarray,
+              lists: tuple | None = None) -> csr_array:
     """K by the compiled row kernel (module docstring of :mod:`efgkit.system.kernels`): the
     rows in chunks of about equal numbers of (function, point) pairs, run on
     ``numba.get_num_threads()`` threads (the kernels release the GIL), then scalar CSR
-    written by the same chunks of rows."""
+    written by the same chunks of rows. ``lists``: the point lists of the test functions
+    (:func:`_lists`) when the caller has them."""
     import numba
 
     from .kernels import block_rows, compile_vectorised, lower_part, scalar_rows
 
     threads = numba.get_num_threads()
     nb = trial.neighbours
-    t_ptr, t_pos, ascending = _lists(test, threads)
+    t_ptr, t_pos, ascending = _lists(test, threads) if lists is None else lists
     n, m = test.n_functions, trial.n_functions
     symmetric = test is trial and np.array_equal(D, D.T)  # K_JI = K_IJ^T: half the work
     order, chunks = _row_chunks(t_ptr, t_pos, test.ddx.shape[1], threads)
@@ -250,17 +252,32 @@ def _with_enrichment(shape: Shape, w, D, backend) -> csr_array:
     components of every unknown at the points (n_points, n_extra) and ``W = diag(w)``,
     the x rows of node I are ``(dx^T W S_xx + dy^T W S_xy)_I`` and the y rows
     ``(dy^T W S_yy + dx^T W S_xy)_I`` (``B_I^T sigma``), and ``K_ee = E_e^T W D E_e``."""
-    K_nn = stiffness(_nodal_part(shape), w, D, backend=backend)
     e = shape.extra
     if e.gxx is None:
         raise ValueError("stiffness needs shape-function derivatives (derivatives=True)")
-    eps = (e.gxx, e.gyy, csr_array(e.gxy + e.gyx))  # strain of each unknown, (n, n_extra)
-    W = diags_array(w)
+    nodal, lists = _nodal_part(shape), None
+    if backend == "numba" and w.shape == (shape.shape[0],) and shape.ddx is not None:
+        import numba  # the point lists of the functions formed once, for K_nn and K_ne
+
+        lists = _lists(nodal, numba.get_num_threads())
+        K_nn = _compiled(nodal, nodal, w, np.ascontiguousarray(D, float), lists)
+    else:  # the checks and the reference path of stiffness()
+        K_nn = stiffness(nodal, w, D, backend=backend)
+    ops = (e.gxx, e.gyy, e.gxy, e.gyx)
+    one = all(np.array_equal(o.indptr, e.gxx.indptr) and np.array_equal(o.indices, e.gxx.indices)
+              for o in ops[1:])  # one pattern (the extrinsic columns): sums of the data arrays
+    g = csr_array((e.gxy.data + e.gyx.data, e.gxx.indices, e.gxx.indptr), shape=e.gxx.shape) \
+        if one else csr_array(e.gxy + e.gyx)  # gamma_xy = gxy + gyx entry by entry
+    eps = (e.gxx, e.gyy, g)  # strain of each unknown, (n, n_extra)
     nf = shape.n_functions
     interleave = np.ravel(np.column_stack([np.arange(nf), nf + np.arange(nf)]))  # rows 2 I + c
+    w_entry = np.repeat(w, np.diff(e.gxx.indptr)) if one else None
 
     def stresses(C):  # W C eps of every unknown: three (n_points, n_extra)
-        return [csr_array(W @ sum(C[i, j] * eps[j] for j in range(3) if C[i, j] != 0))
+        if one:  # the sparse sums' values entry by entry (their exact zeros kept)
+            return [csr_array((w_entry * sum(C[i, j] * eps[j].data for j in range(3) if C[i, j] != 0),
+                               e.gxx.indices, e.gxx.indptr), shape=e.gxx.shape) for i in range(3)]
+        return [csr_array(diags_array(w) @ sum(C[i, j] * eps[j] for j in range(3) if C[i, j] != 0))
                 for i in range(3)]
 
     def product_rows(sig, chunk=131072):  # sum_q B_I^T sig: (2 n_functions, n_extra)
@@ -275,7 +292,7 @@ def _with_enrichment(shape: Shape, w, D, backend) -> csr_array:
         return csr_array(vstack([csr_array(kx), csr_array(ky)], format="csr")[interleave])
 
     def nodal_rows(sig):  # the compiled rows, or the operator products of the reference
-        return _extra_compiled(shape, sig) if backend == "numba" else product_rows(sig)
+        return _extra_compiled(shape, sig, lists) if backend == "numba" else product_rows(sig)
 
     sig = stresses(D)
     K_ne = nodal_rows(sig)
@@ -306,22 +323,34 @@ def _stack_2x2(A: csr_array, B: csr_array, C: csr_array, E: csr_array) -> csr_ar
                      shape=(rows_top + C.shape[0], nA + B.shape[1]))
 
 
-def _extra_compiled(shape: Shape, sig: list) -> csr_array:
-    """K_ne (2 n_functions, n_extra) = sum_q B_I^T sigma by the compiled rows
-    (:func:`efgkit.system.kernels.extra_rows`) over the point lists of the functions, rows in
-    chunks on the thread pool; ``sig`` the weighted stresses (xx, yy, xy) of the enrichment
-    unknowns, each (n_points, n_extra). Entries that sum to exactly zero are dropped, as the
-    sparse products of the reference do."""
+# K_ne point by point into a dense (n_functions, 2, n_extra) array up to this many entries
+# (64 MB: 1e6 nodes with the 4 unknowns of two tips), by the point lists above it.
+DENSE_EXTRA_MAX = 2**23
+
+
+def _extra_compiled(shape: Shape, sig: list, lists: tuple | None = None) -> csr_array:
+    """K_ne (2 n_functions, n_extra) = sum_q B_I^T sigma, ``sig`` the weighted stresses (xx,
+    yy, xy) of the enrichment unknowns, each (n_points, n_extra): up to
+    :data:`DENSE_EXTRA_MAX` entries in one pass over the points into a dense array
+    (:func:`efgkit.system.kernels.extra_dense`), else by rows over the functions' point lists
+    (``lists`` of :func:`_lists`; :func:`efgkit.system.kernels.extra_rows`, chunks of rows on
+    the thread pool); the same sums in the same order, the same K_ne to the bit. Entries
+    that sum to exactly zero are dropped, as the sparse products of the reference do."""
     import numba
 
-    from .kernels import extra_rows
+    from .kernels import extra_dense, extra_rows
 
-    threads = numba.get_num_threads()
-    t_ptr, t_pos, _ = _lists(shape, threads)
     n, n_extra = shape.n_functions, sig[0].shape[1]
     csr = [csr_array(a) for a in sig]
     parts3 = [a for c in csr for a in (c.indptr.astype(np.int64), c.indices.astype(np.int32),
                                        c.data.astype(float))]
+    if 2 * n * n_extra <= DENSE_EXTRA_MAX:
+        nb = shape.neighbours
+        out = np.zeros((n, 2, n_extra))
+        extra_dense(nb.idx, nb.mask, shape.ddx, shape.ddy, *parts3, out)
+        return csr_array(out.reshape(2 * n, n_extra))  # rows 2 I + c; the zeros left out
+    threads = numba.get_num_threads()
+    t_ptr, t_pos, _ = _lists(shape, threads) if lists is None else lists
     order, chunks = _row_chunks(t_ptr, t_pos, shape.ddx.shape[1], threads)
     parts = _on_threads(lambda r: extra_rows(order, r[0], r[1], t_ptr, t_pos, shape.ddx,
                                              shape.ddy, *parts3, n_extra), chunks, threads)

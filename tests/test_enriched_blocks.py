@@ -1,0 +1,63 @@
+"""The enrichment blocks of the compiled stiffness (efgkit.system.assemble): K_ne summed point
+by point into a dense array (kernels.extra_dense) against the rows over the functions' point
+lists (kernels.extra_rows), and the stresses of one shared pattern against the sparse sums.
+Both pairs sum the same products in the same order: the same K to the bit."""
+
+import numpy as np
+import pytest
+from scipy.sparse import csr_array
+
+import efgkit.system.assemble as assemble
+from efgkit import EFG, Crack, Domain, Elastic, Scene
+from efgkit.approx.shape import Extra, Shape
+from efgkit.methods.discretize import discretize
+
+
+def cracked(enrichment: str):
+    sc = Scene(Domain.rectangle(0, 0, 2, 1), Elastic(1.0, 0.3),
+               cracks=(Crack([[0.0, 0.5], [0.9, 0.5]], tips=(False, True)),))
+    return discretize(sc, EFG(spacing=0.1, enrichment=enrichment, rule_power=1.0))
+
+
+def bits(A: csr_array, B: csr_array) -> bool:
+    A, B = csr_array(A), csr_array(B)
+    A.sort_indices(), B.sort_indices()
+    return (np.array_equal(A.indptr, B.indptr) and np.array_equal(A.indices, B.indices)
+            and np.array_equal(A.data, B.data))
+
+
+@pytest.mark.parametrize("enrichment", ["extrinsic_mls", "pu"])
+@pytest.mark.parametrize("symmetric", [True, False])
+def test_dense_extra_block_equals_the_rows(monkeypatch, enrichment, symmetric):
+    d = cracked(enrichment)
+    D = Elastic(1.0, 0.3).D.copy()
+    if not symmetric:
+        D[0, 2], D[2, 0] = 0.1, -0.05
+    assert d.shape.extra is not None
+    dense = assemble.stiffness(d.shape, d.points.w, D, backend="numba")
+    monkeypatch.setattr(assemble, "DENSE_EXTRA_MAX", 0)  # the rows over the point lists
+    rows = assemble.stiffness(d.shape, d.points.w, D, backend="numba")
+    assert bits(dense, rows)
+    # and both against the scipy.sparse reference, to rounding (measured 2.1e-15 and 2.3e-15
+    # of max |K| on these cases: the two group the sums differently; bound ~2.5x that)
+    ref = assemble.stiffness(d.shape, d.points.w, D, backend="numpy")
+    assert abs(dense - ref).max() <= 5e-15 * abs(ref).max()
+
+
+def test_one_pattern_stresses_equal_the_sparse_sums():
+    # the extrinsic columns share one pattern (the data-array path); gyx with each row's
+    # entries reversed is the same matrix on another index order (the sparse sums' path)
+    d = cracked("extrinsic_mls")
+    e = d.shape.extra
+    g = csr_array(e.gyx)
+    lens = np.diff(g.indptr)
+    rows = np.repeat(np.arange(len(lens)), lens)
+    order = np.lexsort((-g.indices, rows))  # row by row, columns descending
+    assert lens.max() > 1 and not np.array_equal(order, np.arange(g.nnz))
+    shuffled = csr_array((g.data[order], g.indices[order], g.indptr), shape=g.shape)
+    other = Shape(d.shape.neighbours, d.shape.values, d.shape.ddx, d.shape.ddy,
+                  d.shape.n_functions, Extra(e.ux, e.uy, e.gxx, e.gxy, shuffled, e.gyy))
+    D = Elastic(1.0, 0.3).D
+    for backend in ("numba", "numpy"):
+        assert bits(assemble.stiffness(d.shape, d.points.w, D, backend=backend),
+                    assemble.stiffness(other, d.points.w, D, backend=backend))
