@@ -61,3 +61,17 @@ def test_one_pattern_stresses_equal_the_sparse_sums():
     for backend in ("numba", "numpy"):
         assert bits(assemble.stiffness(d.shape, d.points.w, D, backend=backend),
                     assemble.stiffness(other, d.points.w, D, backend=backend))
+
+
+def test_compiled_stack_equals_the_index_arrays():
+    from scipy.sparse import random_array
+
+    from efgkit.system.block_stack import stack_2x2
+
+    rng = np.random.default_rng(3)
+    A, B, C, E = (csr_array(random_array(s, density=0.3, rng=rng))
+                  for s in ((40, 40), (40, 3), (3, 40), (3, 3)))
+    ref = stack_2x2(A, B, C, E)
+    out = stack_2x2(A, B, C, E, compiled=True)
+    assert bits(out, ref) and np.array_equal(out.indices, ref.indices)  # same order too
+    assert np.array_equal(ref.toarray()[:40, 40:], B.toarray())

@@ -25,6 +25,7 @@ from scipy.sparse import bmat, csr_array, diags_array, vstack
 
 from ..approx.shape import Shape
 from ..jit import resolve_backend
+from .block_stack import stack_2x2
 
 __all__ = ["stiffness", "load_vector", "lumped_mass", "point_to_function_map"]
 
@@ -298,29 +299,7 @@ def _with_enrichment(shape: Shape, w, D, backend) -> csr_array:
     K_ne = nodal_rows(sig)
     K_en = K_ne.T if np.array_equal(D, D.T) else nodal_rows(stresses(D.T)).T  # E^T D B
     K_ee = csr_array(sum(eps[i].T @ sig[i] for i in range(3)))
-    return _stack_2x2(K_nn, K_ne, csr_array(K_en), K_ee)
-
-
-def _stack_2x2(A: csr_array, B: csr_array, C: csr_array, E: csr_array) -> csr_array:
-    """``[[A, B], [C, E]]`` as one CSR, each entry copied once (``bmat`` stacks the rows of
-    [A, B] and of [C, E], then copies both into one matrix): the entries of a row of A go
-    to the start of the output row, those of B after them (columns shifted by A's)."""
-    nA, rows_top = A.shape[1], A.shape[0]
-    lens = np.concatenate([np.diff(A.indptr) + np.diff(B.indptr),
-                           np.diff(C.indptr) + np.diff(E.indptr)])
-    nnz = int(lens.sum())
-    index = np.int32 if max(nnz, nA + B.shape[1]) < 2**31 else np.int64
-    indptr = np.zeros(len(lens) + 1, np.int64)
-    np.cumsum(lens, out=indptr[1:])
-    indices, data = np.empty(nnz, index), np.empty(nnz)
-    for L, R, start in ((A, B, indptr[:rows_top]), (C, E, indptr[rows_top:-1])):
-        len_l, len_r = np.diff(L.indptr), np.diff(R.indptr)
-        to = np.arange(L.nnz, dtype=np.int64) + np.repeat(start - L.indptr[:-1], len_l)
-        indices[to], data[to] = L.indices, L.data
-        to = np.arange(R.nnz, dtype=np.int64) + np.repeat(start + len_l - R.indptr[:-1], len_r)
-        indices[to], data[to] = R.indices.astype(index) + nA, R.data
-    return csr_array((data, indices, indptr.astype(index)),
-                     shape=(rows_top + C.shape[0], nA + B.shape[1]))
+    return stack_2x2(K_nn, K_ne, csr_array(K_en), K_ee, compiled=backend == "numba")
 
 
 # K_ne point by point into a dense (n_functions, 2, n_extra) array up to this many entries

@@ -113,6 +113,8 @@ def streamed_stiffness(shapes: PointShapes, w: np.ndarray, D: np.ndarray, clock=
                 clock.lap("stiffness")
             yield K_c
             del K_c  # summed: not held through the next chunk
+            if clock is not None:  # the sums of the pairs (not the next chunk's search)
+                clock.lap("stiffness")
 
     K = pairwise_sum(parts())
     if K is None:  # no points
