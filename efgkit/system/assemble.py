@@ -321,8 +321,9 @@ def _extra_compiled(shape: Shape, sig: list, lists: tuple | None = None) -> csr_
 
     n, n_extra = shape.n_functions, sig[0].shape[1]
     csr = [csr_array(a) for a in sig]
-    parts3 = [a for c in csr for a in (c.indptr.astype(np.int64), c.indices.astype(np.int32),
-                                       c.data.astype(float))]
+    parts3 = [a for c in csr for a in (c.indptr.astype(np.int64, copy=False),
+                                       c.indices.astype(np.int32, copy=False),
+                                       c.data.astype(float, copy=False))]
     if 2 * n * n_extra <= DENSE_EXTRA_MAX:
         nb = shape.neighbours
         out = np.zeros((n, 2, n_extra))
