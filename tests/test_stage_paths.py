@@ -1,7 +1,9 @@
-"""The enrichment blocks of the compiled stiffness (efgkit.system.assemble): K_ne summed point
-by point into a dense array (kernels.extra_dense) against the rows over the functions' point
-lists (kernels.extra_rows), and the stresses of one shared pattern against the sparse sums.
-Both pairs sum the same products in the same order: the same K to the bit."""
+"""The faster paths of the stages around the linear solve against the paths they replace,
+on small cases: the enrichment blocks of the compiled stiffness (efgkit.system.assemble):
+K_ne summed point by point into a dense array (kernels.extra_dense) against the rows over
+the functions' point lists (kernels.extra_rows), the stresses of one shared pattern against
+the sparse sums, the compiled stack of the four blocks (the same K to the bit); the box of
+every point by the compiled loop against numpy (efgkit.search.boxes)."""
 
 import numpy as np
 import pytest
@@ -75,3 +77,19 @@ def test_compiled_stack_equals_the_index_arrays():
     out = stack_2x2(A, B, C, E, compiled=True)
     assert bits(out, ref) and np.array_equal(out.indices, ref.indices)  # same order too
     assert np.array_equal(ref.toarray()[:40, 40:], B.toarray())
+
+
+def test_compiled_box_of_equals_numpy(monkeypatch):
+    import efgkit.search.boxes as boxes
+    from efgkit.nodes import generate_nodes
+
+    nodes = generate_nodes(Domain.rectangle(0, 0, 2, 1), EFG(spacing=0.05, perturb=0.3))
+    rng = np.random.default_rng(4)
+    x = np.concatenate([rng.uniform(-0.2, 2.2, (3000, 2)), nodes.x])  # some outside the grid
+    for kind in ("uniform", "nonuniform"):
+        grid = boxes.BoxGrid.build(nodes, kind=kind)
+        monkeypatch.setattr(boxes, "COMPILED_MIN", 10**12)
+        ref = grid.box_of(x)
+        monkeypatch.setattr(boxes, "COMPILED_MIN", 1)
+        out = grid.box_of(x)
+        assert np.array_equal(out, ref) and (ref < 0).any() and (ref >= 0).any()
