@@ -93,3 +93,13 @@ def test_compiled_box_of_equals_numpy(monkeypatch):
         monkeypatch.setattr(boxes, "COMPILED_MIN", 1)
         out = grid.box_of(x)
         assert np.array_equal(out, ref) and (ref < 0).any() and (ref >= 0).any()
+
+
+def test_abs_max_without_the_copy_equals_abs():
+    import efgkit.system.constraints as constraints
+
+    rng = np.random.default_rng(5)
+    for sign in (1.0, -1.0):
+        K = csr_array(sign * abs(csr_array(rng.standard_normal((40, 40)) * (rng.random((40, 40)) < 0.2))))
+        assert constraints._abs_max(K) == abs(K).max() > 0
+    assert constraints._abs_max(csr_array((5, 5))) == abs(csr_array((5, 5))).max() == 0
