@@ -103,3 +103,33 @@ def test_abs_max_without_the_copy_equals_abs():
         K = csr_array(sign * abs(csr_array(rng.standard_normal((40, 40)) * (rng.random((40, 40)) < 0.2))))
         assert constraints._abs_max(K) == abs(K).max() > 0
     assert constraints._abs_max(csr_array((5, 5))) == abs(csr_array((5, 5))).max() == 0
+
+
+@pytest.mark.parametrize("backend", ["numba", "numpy"])
+def test_chunk_stiffness_over_the_nodes_held_equals_all_nodes(backend):
+    # chunks of 300 points among 231 nodes: assembled over the nodes they hold, placed at
+    # their DOFs (the enrichment DOFs last) -- the same K_c as over all nodes, to the bit
+    from efgkit.approx.point_shapes import PointShapes
+    from efgkit.system.streamed import chunk_stiffness
+
+    d = cracked("extrinsic_mls")
+    ps = PointShapes(d.approx, d.points.x, chunk_points=300)
+    D = Elastic(1.0, 0.3).D
+    for s, e in ps.bounds()[::4]:
+        sh = ps.chunk(s, e)
+        assert 2 * sh.n_functions > sh.shape[0]  # the compact path
+        ref = assemble.stiffness(sh, d.points.w[s:e], D, backend=backend)
+        out = chunk_stiffness(sh, d.points.w[s:e], D, backend)
+        assert out.shape == ref.shape and bits(out, ref)
+
+
+def test_compact_numbering_keeps_the_order():
+    from efgkit.search.neighbours import Neighbours
+
+    rng = np.random.default_rng(6)
+    idx = np.sort(rng.integers(0, 500, (200, 12)), axis=1).astype(np.int32)
+    mask = rng.random((200, 12)) < 0.7
+    local, nodes = Neighbours(idx, mask).compact(500)
+    assert np.array_equal(nodes, np.unique(idx[mask]))
+    assert np.array_equal(nodes[local.idx[mask]], idx[mask]) and (local.idx[~mask] == 0).all()
+    assert local.idx.dtype == np.int32 and np.array_equal(local.mask, mask)
