@@ -4,6 +4,7 @@ docs/performance.md.
 
 Run:  PYTHONPATH=. python benchmarks/stage_times.py --before 45781c1
       PYTHONPATH=. python benchmarks/stage_times.py --before 45781c1 --nodes 2e4 --rounds 1 --no-write
+      PYTHONPATH=. python benchmarks/stage_times.py --before 45781c1 --compare-k 2e4 1e5
 
 Each run is one process as in benchmarks/scaling.py (the edge-cracked plate of
 examples/edge_crack.toml refined to about ``--nodes`` nodes, the same warm-up solves), the
@@ -12,6 +13,10 @@ is reported as wall time and as the process's CPU time (user + system, all threa
 process that waits for a core accrues none, the steadier measure on a shared machine), with
 the 1-minute load average at the start of the run, the peak resident memory of the process
 (``ru_maxrss``: the solve's, the warm-ups are smaller) and K_I, K_II of the tip.
+
+``--compare-k N ...``: instead, the streamed stiffness of the plate at about N nodes from
+each tree (one process each, written to a temporary .npz) compared entry by entry: the same
+pattern, and the largest difference relative to max |K| (0 when bit-identical).
 """
 
 from __future__ import annotations
@@ -67,6 +72,41 @@ print(json.dumps({{"n_nodes": sol.nodes.n, "n_points": sol.disc.points.n, "wall_
 """
 
 
+STIFFNESS = r"""
+import math, sys, os, numpy as np
+sys.path.insert(0, os.path.join({root!r}, "benchmarks"))
+import scaling
+from efgkit.methods.discretize import discretize
+from efgkit.problem.graded import modulus_weights
+from efgkit.system.streamed import streamed_stiffness
+scene, method = scaling.scaled(math.sqrt({nodes!r} / scaling.BASE_NODES))
+disc = discretize(scene, method.for_scene(scene), chunked=True)
+K = streamed_stiffness(disc.shape, modulus_weights(disc.scene, disc.points.x, disc.points.w),
+                       scene.material.D)
+K.sort_indices()
+np.savez({out!r}, data=K.data, indices=K.indices, indptr=K.indptr, n=disc.nodes.n,
+         chunks=disc.shape.n_chunks)
+"""
+
+
+def compare_k(trees: dict, nodes: float) -> dict:
+    """The streamed K of both trees at about ``nodes`` nodes, entry by entry."""
+    got = {}
+    for tree, root in trees.items():
+        out = Path(tempfile.gettempdir()) / f"efgkit_stages_K_{tree}.npz"
+        code = STIFFNESS.format(root=str(root), nodes=float(nodes), out=str(out))
+        subprocess.run([sys.executable, "-c", code], check=True, cwd=str(root),
+                       env=dict(os.environ, PYTHONPATH=str(root)))
+        got[tree] = dict(np.load(out))
+        out.unlink()
+    a, b = got["before"], got["after"]
+    same = all(np.array_equal(a[k], b[k]) for k in ("indptr", "indices"))
+    diff = float(np.abs(a["data"] - b["data"]).max() / np.abs(a["data"]).max()) if same else None
+    return {"nodes": int(a["n"]), "chunks": int(a["chunks"]), "nnz": len(a["data"]),
+            "same_pattern": same, "max_rel_diff": diff,
+            "bit_identical": same and bool(np.array_equal(a["data"], b["data"]))}
+
+
 def tree_of(rev: str) -> Path:
     """The files of git revision ``rev`` in a temporary folder (``git archive``)."""
     path = Path(tempfile.gettempdir()) / f"efgkit_stages_{rev}"
@@ -94,7 +134,7 @@ def ours(r: dict, key: str) -> float:
 
 def markdown(res: dict, cmd: str) -> str:
     runs = res["runs"]
-    stages = [k for k in runs[0]["stages_s"] if k not in ("total", "compile")]
+    stages = list(dict.fromkeys(k for r in runs for k in r["stages_s"] if k != "total"))
     head = ("| round | tree | load | " + " | ".join(stages) + " | around the solve s (CPU s) "
             "| wall s | peak GB | CG iterations | K_I | K_II |")
     lines = [
@@ -106,7 +146,9 @@ def markdown(res: dict, cmd: str) -> str:
         "`examples/edge_crack.toml` refined (streamed assembly, Lagrange BCs), one fresh process "
         f"per run, the trees taking turns; 'before' is `{res['before']}`, 'after' this tree. "
         "Each stage: wall s (CPU s, user + system of all threads); 'around the solve' is the "
-        "sum of " + ", ".join(OURS) + "; load: the 1-minute load average at the start.",
+        "sum of " + ", ".join(OURS) + " (not setup, compile, solve); compile: numba's kernels "
+        "loaded from its cache or compiled, wherever it happened; load: the 1-minute load "
+        "average at the start.",
         "",
         head,
         "|" + "---|" * (head.count("|") - 1),
@@ -146,10 +188,16 @@ def main(argv=None) -> dict:
     ap.add_argument("--nodes", type=float, default=1e5)
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--no-write", action="store_true")
+    ap.add_argument("--compare-k", type=float, nargs="+", metavar="N")
     args = ap.parse_args(argv)
     import datetime
 
     trees = {"before": tree_of(args.before), "after": ROOT}
+    if args.compare_k:
+        res = {"compare_k": [compare_k(trees, n) for n in args.compare_k]}
+        for r in res["compare_k"]:
+            print(json.dumps(r))
+        return res
     runs = []
     for k in range(args.rounds):
         for tree, root in trees.items():
