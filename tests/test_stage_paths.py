@@ -36,6 +36,7 @@ def test_dense_extra_block_equals_the_rows(monkeypatch, enrichment, symmetric):
     if not symmetric:
         D[0, 2], D[2, 0] = 0.1, -0.05
     assert d.shape.extra is not None
+    monkeypatch.setattr(assemble, "DENSE_EXTRA_FILL", 0.0)  # dense also for PU's sparse rows
     dense = assemble.stiffness(d.shape, d.points.w, D, backend="numba")
     monkeypatch.setattr(assemble, "DENSE_EXTRA_MAX", 0)  # the rows over the point lists
     rows = assemble.stiffness(d.shape, d.points.w, D, backend="numba")

@@ -302,15 +302,17 @@ def _with_enrichment(shape: Shape, w, D, backend) -> csr_array:
     return stack_2x2(K_nn, K_ne, csr_array(K_en), K_ee, compiled=backend == "numba")
 
 
-# K_ne point by point into a dense (n_functions, 2, n_extra) array up to this many entries
-# (64 MB: 1e6 nodes with the 4 unknowns of two tips), by the point lists above it.
+# K_ne point by point into a dense (n_functions, 2, n_extra) array up to this many entries (64
+# MB) with stress rows this full (extrinsic unknowns: all at every point; PU's few: the rows).
 DENSE_EXTRA_MAX = 2**23
+DENSE_EXTRA_FILL = 0.5
 
 
 def _extra_compiled(shape: Shape, sig: list, lists: tuple | None = None) -> csr_array:
     """K_ne (2 n_functions, n_extra) = sum_q B_I^T sigma, ``sig`` the weighted stresses (xx,
     yy, xy) of the enrichment unknowns, each (n_points, n_extra): up to
-    :data:`DENSE_EXTRA_MAX` entries in one pass over the points into a dense array
+    :data:`DENSE_EXTRA_MAX` entries of stress rows at least :data:`DENSE_EXTRA_FILL` full
+    in one pass over the points into a dense array
     (:func:`efgkit.system.kernels.extra_dense`), else by rows over the functions' point lists
     (``lists`` of :func:`_lists`; :func:`efgkit.system.kernels.extra_rows`, chunks of rows on
     the thread pool); the same sums in the same order, the same K_ne to the bit. Entries
@@ -324,7 +326,8 @@ def _extra_compiled(shape: Shape, sig: list, lists: tuple | None = None) -> csr_
     parts3 = [a for c in csr for a in (c.indptr.astype(np.int64, copy=False),
                                        c.indices.astype(np.int32, copy=False),
                                        c.data.astype(float, copy=False))]
-    if 2 * n * n_extra <= DENSE_EXTRA_MAX:
+    full = max(c.nnz for c in csr) >= DENSE_EXTRA_FILL * csr[0].shape[0] * n_extra
+    if full and 2 * n * n_extra <= DENSE_EXTRA_MAX:  # the dense kernel visits every unknown
         nb = shape.neighbours
         out = np.zeros((n, 2, n_extra))
         extra_dense(nb.idx, nb.mask, shape.ddx, shape.ddy, *parts3, out)
