@@ -1,8 +1,9 @@
 """The faster paths of the stages around the linear solve against the paths they replace,
 on small cases: the enrichment blocks of the compiled stiffness (efgkit.system.assemble):
 K_ne summed point by point into a dense array (kernels.extra_dense) against the rows over
-the functions' point lists (kernels.extra_rows), the stresses of one shared pattern against
-the sparse sums, the compiled stack of the four blocks (the same K to the bit); the box of
+the functions' point lists (kernels.extra_rows), the stresses and K_ee of one shared pattern
+(enriched_kernels.ee_block) against the sparse sums and products, the compiled stack of the
+four blocks (the same K to the bit); the box of
 every point by the compiled loop against numpy (efgkit.search.boxes)."""
 
 import numpy as np
@@ -48,8 +49,9 @@ def test_dense_extra_block_equals_the_rows(monkeypatch, enrichment, symmetric):
 
 
 def test_one_pattern_stresses_equal_the_sparse_sums():
-    # the extrinsic columns share one pattern (the data-array path); gyx with each row's
-    # entries reversed is the same matrix on another index order (the sparse sums' path)
+    # the extrinsic columns share one pattern (the data-array stresses, the compiled K_ee); gyx
+    # with each row's entries reversed is the same matrix on another index order (the sparse
+    # sums and products). Summing K_ee's points in reverse order fails this test.
     d = cracked("extrinsic_mls")
     e = d.shape.extra
     g = csr_array(e.gyx)

@@ -298,7 +298,13 @@ def _with_enrichment(shape: Shape, w, D, backend) -> csr_array:
     sig = stresses(D)
     K_ne = nodal_rows(sig)
     K_en = K_ne.T if np.array_equal(D, D.T) else nodal_rows(stresses(D.T)).T  # E^T D B
-    K_ee = csr_array(sum(eps[i].T @ sig[i] for i in range(3)))
+    if one and backend == "numba":  # the same sums by the compiled pass over the points
+        from .enriched_kernels import ee_block
+
+        data = [tuple(np.ascontiguousarray(a.data) for a in v) for v in (eps, sig)]
+        K_ee = csr_array(ee_block(e.gxx.indptr, e.gxx.indices, *data, sig[0].shape[1]))
+    else:
+        K_ee = csr_array(sum(eps[i].T @ sig[i] for i in range(3)))
     return stack_2x2(K_nn, K_ne, csr_array(K_en), K_ee, compiled=backend == "numba")
 
 
@@ -313,13 +319,14 @@ def _extra_compiled(shape: Shape, sig: list, lists: tuple | None = None) -> csr_
     yy, xy) of the enrichment unknowns, each (n_points, n_extra): up to
     :data:`DENSE_EXTRA_MAX` entries of stress rows at least :data:`DENSE_EXTRA_FILL` full
     in one pass over the points into a dense array
-    (:func:`efgkit.system.kernels.extra_dense`), else by rows over the functions' point lists
+    (:func:`efgkit.system.enriched_kernels.extra_dense`), else by rows over the functions' point lists
     (``lists`` of :func:`_lists`; :func:`efgkit.system.kernels.extra_rows`, chunks of rows on
     the thread pool); the same sums in the same order, the same K_ne to the bit. Entries
     that sum to exactly zero are dropped, as the sparse products of the reference do."""
     import numba
 
-    from .kernels import extra_dense, extra_rows
+    from .enriched_kernels import extra_dense
+    from .kernels import extra_rows
 
     n, n_extra = shape.n_functions, sig[0].shape[1]
     csr = [csr_array(a) for a in sig]

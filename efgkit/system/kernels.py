@@ -26,8 +26,8 @@ from numba import njit
 
 from ..timing import watch_compiles
 
-__all__ = ["block_rows", "compile_vectorised", "count_points", "extra_dense", "extra_rows",
-           "fill_points", "lower_part", "scalar_rows", "side_by_side"]
+__all__ = ["block_rows", "compile_vectorised", "count_points", "extra_rows", "fill_points",
+           "lower_part", "scalar_rows", "side_by_side"]
 
 watch_compiles()
 
@@ -334,54 +334,6 @@ def extra_rows(order, r0, r1, t_ptr, t_pos, gx, gy, xx_ptr, xx_col, xx_val, yy_p
         lens[i_row - r0] = n_found
         fill += n_found
     return lens, cols[:fill], data[:fill]
-
-
-@njit(cache=True, nogil=True)
-def extra_dense(idx, mask, gx, gy, xx_ptr, xx_col, xx_val, yy_ptr, yy_col, yy_val, xy_ptr,
-                xy_col, xy_val, out):
-    """K_ne of :func:`extra_rows` point by point into a dense ``out (n_functions, 2,
-    n_extra)`` (C order, zeroed by the caller; ``out[I, 0]`` the x row 2 I, ``out[I, 1]``
-    the y row): one pass over the points in ascending order, each point's stress rows
-    spread into dense (n_extra,) rows once, each (point, slot) adding its contributions
-    to the row of its function. Every entry sums the same products as :func:`extra_rows`
-    in the same order (the points of a function ascending; per point xx, then yy, then
-    xy; an unknown absent from a stress row adds an exact zero, which leaves a sum
-    unchanged but for the sign of a zero), so the non-zero values are the same to the
-    bit; entries never met stay 0. One thread: the order of each sum is fixed."""
-    n_points, k = idx.shape
-    ne = out.shape[2]
-    une = np.uint64(ne)
-    uk = np.uint64(k)
-    flat_out = out.ravel()
-    flat_idx, flat_mask = idx.ravel(), mask.ravel()
-    flat_gx, flat_gy = gx.ravel(), gy.ravel()
-    sxx = np.zeros(ne)
-    syy = np.zeros(ne)
-    sxy = np.zeros(ne)
-    for q in range(n_points):
-        sxx[:] = 0.0
-        syy[:] = 0.0
-        sxy[:] = 0.0
-        for c in range(xx_ptr[q], xx_ptr[q + 1]):
-            sxx[xx_col[c]] = xx_val[c]
-        for c in range(yy_ptr[q], yy_ptr[q + 1]):
-            syy[yy_col[c]] = yy_val[c]
-        for c in range(xy_ptr[q], xy_ptr[q + 1]):
-            sxy[xy_col[c]] = xy_val[c]
-        s = np.uint64(q) * uk
-        end = s + uk
-        while s < end:
-            if flat_mask[s]:
-                o = np.uint64(flat_idx[s]) * np.uint64(2) * une
-                bx = flat_gx[s]
-                by = flat_gy[s]
-                for e in range(ne):
-                    ue = np.uint64(e)
-                    flat_out[o + ue] += bx * sxx[e]
-                    flat_out[o + une + ue] += by * syy[e]
-                    flat_out[o + ue] += by * sxy[e]
-                    flat_out[o + une + ue] += bx * sxy[e]
-            s += np.uint64(1)
 
 
 @njit(cache=True, nogil=True)
