@@ -109,13 +109,14 @@ def test_abs_max_without_the_copy_equals_abs():
 
 
 @pytest.mark.parametrize("backend", ["numba", "numpy"])
-def test_chunk_stiffness_over_the_nodes_held_equals_all_nodes(backend):
-    # chunks of 300 points among 231 nodes: assembled over the nodes they hold, placed at
+@pytest.mark.parametrize("enrichment", ["extrinsic_mls", "none"])
+def test_chunk_stiffness_over_the_nodes_held_equals_all_nodes(backend, enrichment):
+    # chunks of ~300 points among 240 nodes: assembled over the nodes they hold, placed at
     # their DOFs (the enrichment DOFs last) -- the same K_c as over all nodes, to the bit
     from efgkit.approx.point_shapes import PointShapes
     from efgkit.system.streamed import chunk_stiffness
 
-    d = cracked("extrinsic_mls")
+    d = cracked(enrichment)
     ps = PointShapes(d.approx, d.points.x, chunk_points=300)
     D = Elastic(1.0, 0.3).D
     for s, e in ps.bounds()[::4]:
