@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..jit import resolve_backend
+from ..jit import COMPILED_MIN, resolve_backend
 from ..nodes import NodeCloud
 
 __all__ = ["BoxGrid", "KINDS", "SPREAD"]
@@ -159,8 +159,17 @@ class BoxGrid:
         return len(self.side)
 
     def box_of(self, x: np.ndarray) -> np.ndarray:
-        """Box index of points ``x (n, 2)``, shape (n,); -1 outside the grid."""
+        """Box index of points ``x (n, 2)``, shape (n,); -1 outside the grid. From
+        :data:`~efgkit.jit.COMPILED_MIN` points on by the compiled loop of the search
+        (:func:`efgkit.search.kernels.box_index`, the same rule and arithmetic: the same
+        boxes; the 2.9M points of the cracked plate at 1e5 nodes in 0.05 against 0.16 s,
+        medians of 5 in one process)."""
         x = np.asarray(x, dtype=float).reshape(-1, 2)
+        if len(x) >= COMPILED_MIN:
+            from .kernels import box_index
+
+            return box_index(np.ascontiguousarray(x), self.axis, self.edges, self.side,
+                             self.offset, self.lo)
         a, c = x[:, self.axis], x[:, 1 - self.axis]
         s = np.clip(np.searchsorted(self.edges, a, side="right") - 1, 0, self.n_strips - 1)
         j = np.floor((c - self.lo) / self.side[s])

@@ -23,7 +23,7 @@ from numba import njit, prange
 from ..timing import watch_compiles
 
 __all__ = ["extent", "strip_edges", "register", "box_index", "count_neighbours", "fill_padded", "fill_csr",
-           "csr_serial"]
+           "csr_serial", "compact_numbering"]
 
 watch_compiles()  # before anything here compiles
 
@@ -264,3 +264,31 @@ def csr_serial(x, box, start, members, packed):
                     c += 1
         indptr[q + 1] = c
     return indptr, out[:c] if 4 * len(out) <= 5 * c + 64 else out[:c].copy()
+
+
+@njit(cache=True)
+def compact_numbering(idx, mask, n_nodes):
+    """The nodes held by the valid entries of ``idx, mask (n, k)`` ascending (m,) int64, and
+    ``idx`` renumbered over them (int32, masked entries 0): a mark pass, a count over the
+    ``n_nodes`` marks and a renumbering pass."""
+    n, k = idx.shape
+    local = np.full(n_nodes, -1, np.int64)
+    for q in range(n):
+        for a in range(k):
+            if mask[q, a]:
+                local[idx[q, a]] = 0
+    m = 0
+    for i in range(n_nodes):
+        if local[i] == 0:
+            local[i] = m
+            m += 1
+    nodes = np.empty(m, np.int64)
+    for i in range(n_nodes):
+        if local[i] >= 0:
+            nodes[local[i]] = i
+    out = np.zeros((n, k), np.int32)
+    for q in range(n):
+        for a in range(k):
+            if mask[q, a]:
+                out[q, a] = local[idx[q, a]]
+    return out, nodes

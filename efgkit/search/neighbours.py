@@ -67,6 +67,25 @@ class Neighbours:
     def subset(self, rows) -> Neighbours:
         return Neighbours(self.idx[rows], self.mask[rows])
 
+    def compact(self, n_nodes: int) -> tuple[Neighbours, np.ndarray]:
+        """The lists renumbered over the nodes they hold: (neighbours with indices into
+        ``nodes``, ``nodes (m,)`` int64 ascending), ``nodes[local.idx] == idx`` where valid
+        (masked entries 0). The numbering keeps the order of the nodes, so ascending lists
+        stay ascending. For the work of a chunk of points that would otherwise run over
+        all ``n_nodes`` nodes (:func:`efgkit.system.streamed.streamed_stiffness`).
+
+        Examples
+        --------
+        >>> nb = Neighbours(np.array([[7, 2], [2, 0]], np.int32), np.array([[True, True], [True, False]]))
+        >>> local, nodes = nb.compact(10)
+        >>> nodes.tolist(), local.idx.tolist()
+        ([2, 7], [[1, 0], [0, 0]])
+        """
+        from .kernels import compact_numbering
+
+        idx, nodes = compact_numbering(self.idx, self.mask, n_nodes)
+        return Neighbours(idx, self.mask), nodes
+
 
 def choose_method(n_points: int, nodes: NodeCloud) -> str:
     """The ``"auto"`` method: ``"kdtree"`` below :data:`efgkit.jit.COMPILED_MIN` points

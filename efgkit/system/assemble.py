@@ -25,6 +25,7 @@ from scipy.sparse import bmat, csr_array, diags_array, vstack
 
 from ..approx.shape import Shape
 from ..jit import resolve_backend
+from .block_stack import stack_2x2
 from .dense_stiffness import DENSE_EXTRA, DENSE_WORK, dense_enrichment_blocks, dense_nodal_stiffness
 
 __all__ = ["stiffness", "load_vector", "lumped_mass", "point_to_function_map"]
@@ -113,18 +114,20 @@ def _row_chunks(t_ptr: np.ndarray, t_pos: np.ndarray, k: int, threads: int) -> t
     return order, _spans(np.concatenate([[0], cuts, [n]]))
 
 
-def _compiled(test: Shape, trial: Shape, w: np.ndarray, D: np.ndarray) -> csr_array:
+def _compiled(test: Shape, trial: Shape, w: np.ndarray, D: np.ndarray,
+              lists: tuple | None = None) -> csr_array:
     """K by the compiled row kernel (module docstring of :mod:`efgkit.system.kernels`): the
     rows in chunks of about equal numbers of (function, point) pairs, run on
     ``numba.get_num_threads()`` threads (the kernels release the GIL), then scalar CSR
-    written by the same chunks of rows."""
+    written by the same chunks of rows. ``lists``: the point lists of the test functions
+    (:func:`_lists`) when the caller has them."""
     import numba
 
     from .kernels import block_rows, compile_vectorised, lower_part, scalar_rows
 
     threads = numba.get_num_threads()
     nb = trial.neighbours
-    t_ptr, t_pos, ascending = _lists(test, threads)
+    t_ptr, t_pos, ascending = _lists(test, threads) if lists is None else lists
     n, m = test.n_functions, trial.n_functions
     symmetric = test is trial and np.array_equal(D, D.T)  # K_JI = K_IJ^T: half the work
     order, chunks = _row_chunks(t_ptr, t_pos, test.ddx.shape[1], threads)
@@ -254,19 +257,34 @@ def _with_enrichment(shape: Shape, w, D, backend) -> csr_array:
     components of every unknown at the points (n_points, n_extra) and ``W = diag(w)``,
     the x rows of node I are ``(dx^T W S_xx + dy^T W S_xy)_I`` and the y rows
     ``(dy^T W S_yy + dx^T W S_xy)_I`` (``B_I^T sigma``), and ``K_ee = E_e^T W D E_e``."""
-    K_nn = stiffness(_nodal_part(shape), w, D, backend=backend)
     e = shape.extra
     if e.gxx is None:
         raise ValueError("stiffness needs shape-function derivatives (derivatives=True)")
+    nodal, lists = _nodal_part(shape), None
+    if backend == "numba" and w.shape == (shape.shape[0],) and shape.ddx is not None:
+        import numba  # the point lists of the functions formed once, for K_nn and K_ne
+
+        lists = _lists(nodal, numba.get_num_threads())
+        K_nn = _compiled(nodal, nodal, w, np.ascontiguousarray(D, float), lists)
+    else:  # the checks and the reference path of stiffness()
+        K_nn = stiffness(nodal, w, D, backend=backend)
     if backend == "numpy" and e.n <= DENSE_EXTRA:  # thin blocks: dense (dense_stiffness)
-        return _stack_2x2(K_nn, *dense_enrichment_blocks(shape, w, D))
-    eps = (e.gxx, e.gyy, csr_array(e.gxy + e.gyx))  # strain of each unknown, (n, n_extra)
-    W = diags_array(w)
+        return stack_2x2(K_nn, *dense_enrichment_blocks(shape, w, D))
+    ops = (e.gxx, e.gyy, e.gxy, e.gyx)
+    one = all(np.array_equal(o.indptr, e.gxx.indptr) and np.array_equal(o.indices, e.gxx.indices)
+              for o in ops[1:])  # one pattern (the extrinsic columns): sums of the data arrays
+    g = csr_array((e.gxy.data + e.gyx.data, e.gxx.indices, e.gxx.indptr), shape=e.gxx.shape) \
+        if one else csr_array(e.gxy + e.gyx)  # gamma_xy = gxy + gyx entry by entry
+    eps = (e.gxx, e.gyy, g)  # strain of each unknown, (n, n_extra)
     nf = shape.n_functions
     interleave = np.ravel(np.column_stack([np.arange(nf), nf + np.arange(nf)]))  # rows 2 I + c
+    w_entry = np.repeat(w, np.diff(e.gxx.indptr)) if one else None
 
     def stresses(C):  # W C eps of every unknown: three (n_points, n_extra)
-        return [csr_array(W @ sum(C[i, j] * eps[j] for j in range(3) if C[i, j] != 0))
+        if one:  # the sparse sums' values entry by entry (their exact zeros kept)
+            return [csr_array((w_entry * sum(C[i, j] * eps[j].data for j in range(3) if C[i, j] != 0),
+                               e.gxx.indices, e.gxx.indptr), shape=e.gxx.shape) for i in range(3)]
+        return [csr_array(diags_array(w) @ sum(C[i, j] * eps[j] for j in range(3) if C[i, j] != 0))
                 for i in range(3)]
 
     def product_rows(sig, chunk=131072):  # sum_q B_I^T sig: (2 n_functions, n_extra)
@@ -281,53 +299,54 @@ def _with_enrichment(shape: Shape, w, D, backend) -> csr_array:
         return csr_array(vstack([csr_array(kx), csr_array(ky)], format="csr")[interleave])
 
     def nodal_rows(sig):  # the compiled rows, or the operator products of the reference
-        return _extra_compiled(shape, sig) if backend == "numba" else product_rows(sig)
+        return _extra_compiled(shape, sig, lists) if backend == "numba" else product_rows(sig)
 
     sig = stresses(D)
     K_ne = nodal_rows(sig)
     K_en = K_ne.T if np.array_equal(D, D.T) else nodal_rows(stresses(D.T)).T  # E^T D B
-    K_ee = csr_array(sum(eps[i].T @ sig[i] for i in range(3)))
-    return _stack_2x2(K_nn, K_ne, csr_array(K_en), K_ee)
+    if one and backend == "numba":  # the same sums by the compiled pass over the points
+        from .enriched_kernels import ee_block
+
+        data = [tuple(np.ascontiguousarray(a.data) for a in v) for v in (eps, sig)]
+        K_ee = csr_array(ee_block(e.gxx.indptr, e.gxx.indices, *data, sig[0].shape[1]))
+    else:
+        K_ee = csr_array(sum(eps[i].T @ sig[i] for i in range(3)))
+    return stack_2x2(K_nn, K_ne, csr_array(K_en), K_ee, compiled=backend == "numba")
 
 
-def _stack_2x2(A: csr_array, B: csr_array, C: csr_array, E: csr_array) -> csr_array:
-    """``[[A, B], [C, E]]`` as one CSR, each entry copied once (``bmat`` stacks the rows of
-    [A, B] and of [C, E], then copies both into one matrix): the entries of a row of A go
-    to the start of the output row, those of B after them (columns shifted by A's)."""
-    nA, rows_top = A.shape[1], A.shape[0]
-    lens = np.concatenate([np.diff(A.indptr) + np.diff(B.indptr),
-                           np.diff(C.indptr) + np.diff(E.indptr)])
-    nnz = int(lens.sum())
-    index = np.int32 if max(nnz, nA + B.shape[1]) < 2**31 else np.int64
-    indptr = np.zeros(len(lens) + 1, np.int64)
-    np.cumsum(lens, out=indptr[1:])
-    indices, data = np.empty(nnz, index), np.empty(nnz)
-    for L, R, start in ((A, B, indptr[:rows_top]), (C, E, indptr[rows_top:-1])):
-        len_l, len_r = np.diff(L.indptr), np.diff(R.indptr)
-        to = np.arange(L.nnz, dtype=np.int64) + np.repeat(start - L.indptr[:-1], len_l)
-        indices[to], data[to] = L.indices, L.data
-        to = np.arange(R.nnz, dtype=np.int64) + np.repeat(start + len_l - R.indptr[:-1], len_r)
-        indices[to], data[to] = R.indices.astype(index) + nA, R.data
-    return csr_array((data, indices, indptr.astype(index)),
-                     shape=(rows_top + C.shape[0], nA + B.shape[1]))
+# K_ne point by point into a dense (n_functions, 2, n_extra) array up to this many entries (64
+# MB) with stress rows this full (extrinsic unknowns: all at every point; PU's few: the rows).
+DENSE_EXTRA_MAX = 2**23
+DENSE_EXTRA_FILL = 0.5
 
 
-def _extra_compiled(shape: Shape, sig: list) -> csr_array:
-    """K_ne (2 n_functions, n_extra) = sum_q B_I^T sigma by the compiled rows
-    (:func:`efgkit.system.kernels.extra_rows`) over the point lists of the functions, rows in
-    chunks on the thread pool; ``sig`` the weighted stresses (xx, yy, xy) of the enrichment
-    unknowns, each (n_points, n_extra). Entries that sum to exactly zero are dropped, as the
-    sparse products of the reference do."""
+def _extra_compiled(shape: Shape, sig: list, lists: tuple | None = None) -> csr_array:
+    """K_ne (2 n_functions, n_extra) = sum_q B_I^T sigma, ``sig`` the weighted stresses (xx,
+    yy, xy) of the enrichment unknowns, each (n_points, n_extra): up to
+    :data:`DENSE_EXTRA_MAX` entries of stress rows at least :data:`DENSE_EXTRA_FILL` full
+    in one pass over the points into a dense array
+    (:func:`efgkit.system.enriched_kernels.extra_dense`), else by rows over the functions' point lists
+    (``lists`` of :func:`_lists`; :func:`efgkit.system.kernels.extra_rows`, chunks of rows on
+    the thread pool); the same sums in the same order, the same K_ne to the bit. Entries
+    that sum to exactly zero are dropped, as the sparse products of the reference do."""
     import numba
 
+    from .enriched_kernels import extra_dense
     from .kernels import extra_rows
 
-    threads = numba.get_num_threads()
-    t_ptr, t_pos, _ = _lists(shape, threads)
     n, n_extra = shape.n_functions, sig[0].shape[1]
     csr = [csr_array(a) for a in sig]
-    parts3 = [a for c in csr for a in (c.indptr.astype(np.int64), c.indices.astype(np.int32),
-                                       c.data.astype(float))]
+    parts3 = [a for c in csr for a in (c.indptr.astype(np.int64, copy=False),
+                                       c.indices.astype(np.int32, copy=False),
+                                       c.data.astype(float, copy=False))]
+    full = max(c.nnz for c in csr) >= DENSE_EXTRA_FILL * csr[0].shape[0] * n_extra
+    if full and 2 * n * n_extra <= DENSE_EXTRA_MAX:  # the dense kernel visits every unknown
+        nb = shape.neighbours
+        out = np.zeros((n, 2, n_extra))
+        extra_dense(nb.idx, nb.mask, shape.ddx, shape.ddy, *parts3, out)
+        return csr_array(out.reshape(2 * n, n_extra))  # rows 2 I + c; the zeros left out
+    threads = numba.get_num_threads()
+    t_ptr, t_pos, _ = _lists(shape, threads) if lists is None else lists
     order, chunks = _row_chunks(t_ptr, t_pos, shape.ddx.shape[1], threads)
     parts = _on_threads(lambda r: extra_rows(order, r[0], r[1], t_ptr, t_pos, shape.ddx,
                                              shape.ddy, *parts3, n_extra), chunks, threads)

@@ -27,7 +27,7 @@ from numba import njit
 from ..timing import watch_compiles
 
 __all__ = ["block_rows", "compile_vectorised", "count_points", "extra_rows", "fill_points",
-           "lower_part", "scalar_rows"]
+           "lower_part", "scalar_rows", "side_by_side"]
 
 watch_compiles()
 
@@ -334,3 +334,20 @@ def extra_rows(order, r0, r1, t_ptr, t_pos, gx, gy, xx_ptr, xx_col, xx_val, yy_p
         lens[i_row - r0] = n_found
         fill += n_found
     return lens, cols[:fill], data[:fill]
+
+
+@njit(cache=True, nogil=True)
+def side_by_side(l_ptr, l_ind, l_val, r_ptr, r_ind, r_val, shift, out_ptr, out_ind, out_val):
+    """Rows of ``[L, R]`` into ``out_ind``, ``out_val`` from ``out_ptr[i]`` (row i's first
+    entry): row i of L, then row i of R with its columns shifted by ``shift`` (the block
+    rows of :func:`efgkit.system.assemble.stiffness` with the enrichment columns)."""
+    for i in range(len(l_ptr) - 1):
+        p = out_ptr[i]
+        for c in range(l_ptr[i], l_ptr[i + 1]):
+            out_ind[p] = l_ind[c]
+            out_val[p] = l_val[c]
+            p += 1
+        for c in range(r_ptr[i], r_ptr[i + 1]):
+            out_ind[p] = r_ind[c] + shift
+            out_val[p] = r_val[c]
+            p += 1
