@@ -93,10 +93,13 @@ def test_sweeps_of_refuses_other_smoothers():
         sweeps_of(("jacobi", {"omega": 0.5}), ("gauss_seidel", {"sweep": "symmetric"}))
 
 
-def test_p1_stiffness_is_the_element_sum_on_qhulls_triangles():
+@pytest.mark.parametrize("compiled", [False, True], ids=["numpy", "compiled"])
+def test_p1_stiffness_is_the_element_sum_on_qhulls_triangles(compiled, monkeypatch):
     """Triangle's triangulation of the jittered nodes is Qhull's (unique: no four nodes on a
-    circle); the node-block assembly equals the element-by-element one; on a grid the
-    couplings that cancel are not stored."""
+    circle); the node-block assembly, in numpy or by the compiled kernel of large solves
+    (efgkit.system.p1_kernels), equals the element-by-element one; on a grid the couplings
+    that cancel are not stored."""
+    monkeypatch.setattr(compiled_operators, "COMPILED_MIN_UNKNOWNS", 1 if compiled else 10**9)
     rng = np.random.default_rng(5)
     x = rng.random((300, 2))
     s = np.sqrt(np.prod(np.ptp(x, axis=0)) / len(x))

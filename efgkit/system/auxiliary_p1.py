@@ -7,14 +7,19 @@ jittered by 1e-3 of the mean spacing: the jitter makes the Delaunay triangulatio
 (``scipy.spatial.Delaunay``) gave before, in 0.075 against 0.63 s at 97k nodes. The element
 matrices are assembled as 2 x 2 node blocks (one sort of the node pairs, then sums per
 block) and stored without explicit zeros (on grids some couplings cancel exactly; stored
-zeros would count as connections in the aggregation of the multigrid hierarchy):
-set-up 0.3-0.5 against 1.1-1.9 s at 97k nodes (docs/performance.md, solve_stage_notes).
+zeros would count as connections in the aggregation of the multigrid hierarchy): set-up
+0.3-0.5 against 1.1-1.9 s at 97k nodes (docs/performance.md, solve_stage_notes). Large
+solves assemble the blocks in one compiled pass (:mod:`efgkit.system.p1_kernels`): the
+whole P1 stiffness of 97k random points in 0.32 against 1.12 s, the same pattern, the
+entries to 3e-16.
 """
 
 from __future__ import annotations
 
 import numpy as np
 from scipy.sparse import bsr_array, csr_array
+
+from .compiled_operators import use_compiled
 
 __all__ = ["ROUNDOFF", "delaunay_triangles", "p1_stiffness"]
 
@@ -60,18 +65,31 @@ def _cut(x: np.ndarray, tri: np.ndarray, cuts: np.ndarray) -> np.ndarray:
     return hit
 
 
-def _element_blocks(g: np.ndarray, area: np.ndarray, D: np.ndarray) -> np.ndarray:
-    """Element stiffness ``area B^T D B`` as node blocks (t, 3, 3, 2, 2): entry ``[t, a, b, c,
-    d]`` couples component c of vertex a with component d of vertex b. ``g`` (t, 3, 2) holds
-    the gradients of the barycentric coordinates; with Voigt rows (xx, yy, xy), ``B_a = [[g_ax,
-    0], [0, g_ay], [g_ay, g_ax]]``, so ``B_a^T D B_b = sum_kl C[c, k, d, l] g_ak g_bl`` with
-    ``C[c, k, d, l] = sum_pq S[p, c, k] D[p, q] S[q, d, l]``."""
-    S = np.zeros((3, 2, 2))  # B_a[p, c] = sum_k S[p, c, k] g_ak
+def _coupling(D: np.ndarray) -> np.ndarray:
+    """``C`` (4, 4) of the element blocks: ``B_a^T D B_b [c, d] = sum_kl g_ak g_bl C[k * 2 + l, c
+    * 2 + d]``, ``g`` the gradients of the barycentric coordinates. With Voigt rows (xx, yy, xy),
+    ``B_a = [[g_ax, 0], [0, g_ay], [g_ay, g_ax]]`` = ``S[p, c, k] g_ak``, so ``C[k, l, c, d] =
+    sum_pq S[p, c, k] D[p, q] S[q, d, l]``."""
+    S = np.zeros((3, 2, 2))
     S[0, 0, 0] = S[1, 1, 1] = S[2, 0, 1] = S[2, 1, 0] = 1.0
-    C = np.einsum("pck,pq,qdl->klcd", S, np.asarray(D, dtype=float), S).reshape(4, 4)
+    return np.einsum("pck,pq,qdl->klcd", S, np.asarray(D, dtype=float), S).reshape(4, 4)
+
+
+def _node_blocks(tri: np.ndarray, g: np.ndarray, area: np.ndarray, C: np.ndarray, n: int):
+    """Node-block CSR (indptr (n + 1,), columns (m,), blocks (m, 4)) of ``sum_e area_e B^T D
+    B`` in numpy: the element blocks (t, 3, 3, 4), one stable sort of the node pairs, sums per
+    pair in the order of the triangles."""
     gg = g[:, :, None, :, None] * g[:, None, :, None, :]  # (t, a, b, k, l)
-    out = (gg.reshape(-1, 4) * np.repeat(area, 9)[:, None]) @ C
-    return out.reshape(len(g), 3, 3, 2, 2)
+    blocks = (gg.reshape(-1, 4) * np.repeat(area, 9)[:, None]) @ C
+    key = (tri[:, :, None] * n + tri[:, None, :]).ravel()  # node pair (a, b) -> a n + b
+    order = np.argsort(key, kind="stable")
+    key = key[order]
+    first = np.ones(len(key), bool)
+    first[1:] = key[1:] != key[:-1]
+    starts = np.flatnonzero(first)  # each node pair's run of element entries
+    data = np.add.reduceat(blocks[order], starts, axis=0) if len(starts) else np.zeros((0, 4))
+    key = key[starts]
+    return np.searchsorted(key // n, np.arange(n + 1)), key % n, data
 
 
 def p1_stiffness(x: np.ndarray, D: np.ndarray, domain=None, cuts=None,
@@ -103,22 +121,22 @@ def p1_stiffness(x: np.ndarray, D: np.ndarray, domain=None, cuts=None,
         keep &= ~_cut(x, tri, np.asarray(cuts, dtype=float).reshape(-1, 2, 2))
     tri, e, area = tri[keep], e[keep], area[keep]
     g = np.stack([-e[..., 1], e[..., 0]], axis=-1) / (2 * area[:, None, None])  # grad lambda_i
-    blocks = _element_blocks(g, np.abs(area), D).reshape(-1, 4)
-    key = (tri[:, :, None] * n + tri[:, None, :]).ravel()  # node pair (a, b) -> a n + b
-    order = np.argsort(key, kind="stable")
-    key = key[order]
-    first = np.ones(len(key), bool)
-    first[1:] = key[1:] != key[:-1]
-    starts = np.flatnonzero(first)  # each node pair's run of element entries
-    m = len(starts)
-    data = np.add.reduceat(blocks[order], starts, axis=0) if m else np.zeros((0, 4))
-    key = key[starts]
-    indptr = np.searchsorted(key // n, np.arange(n + 1))
-    P = csr_array(bsr_array((data.reshape(m, 2, 2), key % n, indptr), shape=(2 * n, 2 * n)).tocsr())
+    args = (tri.astype(np.int64), np.ascontiguousarray(g), np.abs(area), _coupling(D), n)
+    if use_compiled(2 * n):  # large solves: one compiled pass (p1_kernels)
+        from .p1_kernels import p1_node_blocks
+
+        indptr, cols, data = p1_node_blocks(*args)
+    else:
+        indptr, cols, data = _node_blocks(*args)
     # Couplings that cancel in exact arithmetic (on grids) come out as round-off of either
-    # sign or as exact zeros, depending on the order of the sums: drop them all.
-    d = np.sqrt(np.abs(P.diagonal()))
-    rows = np.repeat(np.arange(2 * n), np.diff(P.indptr))
-    P.data[np.abs(P.data) <= ROUNDOFF * d[rows] * d[P.indices]] = 0.0
+    # sign or as exact zeros, depending on the order of the sums: drop them all (below
+    # ROUNDOFF sqrt(P_ii P_jj); the diagonal from the diagonal blocks).
+    rows = np.repeat(np.arange(n), np.diff(indptr))
+    on = rows == cols
+    d = np.zeros((n, 2))
+    d[rows[on]] = np.sqrt(np.abs(data[on][:, [0, 3]]))
+    data = data.reshape(-1, 2, 2)
+    data[np.abs(data) <= ROUNDOFF * d[rows][:, :, None] * d[cols][:, None, :]] = 0.0
+    P = csr_array(bsr_array((data, cols, indptr), shape=(2 * n, 2 * n)).tocsr())
     P.eliminate_zeros()
     return P
