@@ -181,3 +181,69 @@ def test_an_unsymmetric_matrix_keeps_its_own_product(monkeypatch):
     assert isinstance(product_operator(A), SymmetricOperator)
     B = csr_array(A + coo_array(([1.0], ([0], [1])), shape=A.shape))  # a_01 != a_10
     assert product_operator(B) is B
+
+
+def _random_spd(n, seed):
+    rng = np.random.default_rng(seed)
+    R = random_array((n, n), density=0.04, rng=rng, format="csr")
+    A = csr_array(R + R.T + coo_array((np.full(n, 2.0 + n * 0.04), (np.arange(n), np.arange(n)))))
+    return A, rng
+
+
+@pytest.mark.parametrize("threads", [2, 3])
+def test_threaded_product_and_chebyshev_are_the_one_thread_ones(threads, monkeypatch):
+    """Row ranges on ``threads`` threads (a Python pool: runs with NUMBA_NUM_THREADS=1 too): the
+    product with the upper triangle equals one thread's to round-off (the parts' sums added in
+    another order) and the full product's; the Chebyshev polynomial to the bit (row by row, the
+    same sums); both the same on every call (a fixed split, sums in a fixed order)."""
+    A, rng = _random_spd(400, 11)
+    x = rng.standard_normal(400)
+    r = rng.standard_normal((400, 2))
+    S = SymmetricOperator(A)
+    Y = CompiledChebyshev(csr_array(A / (2 * A.diagonal().max())), 6, (0.03, 1.05))
+    serial = S @ x, Y(r)
+    monkeypatch.setattr(compiled_operators, "solve_threads", lambda: threads)
+    got = S @ x, Y(r)
+    assert np.abs(got[0] - serial[0]).max() <= 8e-16 * np.abs(serial[0]).max()  # measured 2.6e-16
+    assert np.abs(got[0] - A @ x).max() <= 1e-14 * np.abs(A @ x).max()
+    assert np.array_equal(got[1], serial[1])
+    assert np.array_equal(S @ x, got[0]) and np.array_equal(Y(r), got[1])
+    assert len(S._splits[threads][1]) == threads - 1  # the parallel path ran
+
+
+def test_row_split_covers_the_rows_in_order(monkeypatch):
+    """Contiguous ranges with about equal entries; more ranges than rows leave some empty,
+    and the threaded product is still right there."""
+    A, rng = _random_spd(300, 12)
+    b = compiled_operators.row_split(A.indptr, 2)
+    assert b[0] == 0 and b[-1] == 300 and np.all(np.diff(b) >= 0)
+    assert abs(A.indptr[b[1]] - A.nnz / 2) <= np.diff(A.indptr).max()
+    tiny = csr_array(np.array([[2.0, 1.0], [1.0, 3.0]]))
+    assert compiled_operators.row_split(tiny.indptr, 4).tolist() == [0, 1, 1, 2, 2]
+    S = SymmetricOperator(tiny)
+    monkeypatch.setattr(compiled_operators, "solve_threads", lambda: 4)
+    assert (S @ np.array([1.0, 2.0])).tolist() == [4.0, 7.0]  # [[2, 1], [1, 3]] @ [1, 2]
+
+
+def test_solve_threads_follows_the_switch(monkeypatch):
+    import numba
+
+    monkeypatch.setattr(compiled_operators, "THREADED", False)
+    assert compiled_operators.solve_threads() == 1
+    monkeypatch.setattr(compiled_operators, "THREADED", True)
+    assert compiled_operators.solve_threads() == numba.get_num_threads()
+
+
+def test_threaded_uzawa_solve_is_the_one_thread_solve(monkeypatch):
+    """The whole Lagrange-Uzawa solve on the compiled path with two threads against one: the
+    same CG iterations and coefficients to ~1e-12 relative (the preconditioner is the same fixed
+    operator; only the products' round-off differs)."""
+    scene = _cracked_plate()
+    method = EFG(spacing=0.5, bc="lagrange", solver="amg")
+    monkeypatch.setattr(compiled_operators, "COMPILED_MIN_UNKNOWNS", 0)
+    one = solve(scene, method)
+    monkeypatch.setattr(compiled_operators, "solve_threads", lambda: 2)
+    two = solve(scene, method, disc=one.disc)
+    assert two.info["iterations"] == one.info["iterations"]
+    rel = np.linalg.norm(two.coeffs - one.coeffs) / np.linalg.norm(one.coeffs)
+    assert rel <= 4e-12  # measured 1.4e-12 (the enrichment unknowns' scales amplify round-off)
