@@ -5,9 +5,10 @@ Run:  NUMBA_NUM_THREADS=2 PYTHONPATH=. python benchmarks/solve_threads.py --node
 
 One discretisation, stiffness and load vector (benchmarks/solve_stage.py's ``build``); a
 warm-up solve (compiles or loads the kernels, captures the Chebyshev operators the
-preconditioner builds); then per round, one thread (``THREADED = False``) and then two in turn:
-the median wall and CPU time of the product with ``K``'s :class:`SymmetricOperator` (upper
-triangle), of the row-parallel product with the full ``K`` (CSR, unsigned indices) and of one
+preconditioner builds); then per round, one thread (``THREADED = False``) and then two in
+turn: after a pause of 1 s, the median wall and CPU time of the product with ``K``'s
+:class:`SymmetricOperator` (upper triangle), of the row-parallel product with the full ``K``
+(CSR, unsigned indices) and of one
 Chebyshev application (6 steps on (n, 2)), then a whole ``solve`` (its "solve" stage, set-up,
 CG, iterations, K_I, the process CPU time and the coefficients' difference from the first
 one-thread solve). Each measurement carries the load average (``os.getloadavg``) at its
@@ -98,6 +99,7 @@ def main(argv=None) -> None:
                 co.THREADED = flag
                 nt = co.solve_threads()
                 row = {"round": rnd + 1, "threads": nt}
+                time.sleep(1.0)  # threads a solve leaves spinning (BLAS) settle first
                 for name, fn in (("symmetric_product", lambda: S @ x),
                                  ("full_product", lambda nt=nt: full[nt](x)),
                                  ("chebyshev", lambda: Y(r))):

@@ -66,11 +66,12 @@ def test_compiled_chebyshev_is_the_same_polynomial():
 
 
 @pytest.mark.parametrize("smoothers", [{}, VCYCLE_SMOOTHERS], ids=["symmetric", "efg"])
-def test_compiled_vcycle_is_pyamgs(smoothers):
+def test_compiled_vcycle_is_pyamgs(smoothers, monkeypatch):
     """One V-cycle on the P1 stiffness of a perturbed grid (levels in BSR below the first)
     against :func:`vcycle` with pyamg's smoothers, symmetric Gauss-Seidel on every level or the
     EFG preconditioner's (one forward sweep down, one backward up below the first level); the
-    cycle is symmetric either way."""
+    cycle is symmetric either way. With its residual and transfer products split over two
+    threads (the sweeps stay serial) it is the same to the bit."""
     import pyamg
 
     x = _grid(30, np.random.default_rng(2))
@@ -86,6 +87,9 @@ def test_compiled_vcycle_is_pyamgs(smoothers):
     assert np.abs(V(b) - expected).max() <= 1e-12 * np.abs(expected).max()  # measured 2e-15
     u, v = np.random.default_rng(4).standard_normal((2, P.shape[0]))
     assert abs(u @ V(v) - v @ V(u)) <= 1e-12 * abs(u @ V(u))
+    one = V(b)
+    monkeypatch.setattr(compiled_operators, "solve_threads", lambda: 2)
+    assert np.array_equal(V(b), one)
 
 
 def test_sweeps_of_refuses_other_smoothers():
@@ -237,7 +241,8 @@ def test_solve_threads_follows_the_switch(monkeypatch):
 def test_threaded_uzawa_solve_is_the_one_thread_solve(monkeypatch):
     """The whole Lagrange-Uzawa solve on the compiled path with two threads against one: the
     same CG iterations and coefficients to ~1e-12 relative (the preconditioner is the same fixed
-    operator; only the products' round-off differs)."""
+    operator; only the products' round-off differs). Both solves are deterministic: a second
+    solve on each thread count gives the same coefficients to the bit."""
     scene = _cracked_plate()
     method = EFG(spacing=0.5, bc="lagrange", solver="amg")
     monkeypatch.setattr(compiled_operators, "COMPILED_MIN_UNKNOWNS", 0)
@@ -246,4 +251,27 @@ def test_threaded_uzawa_solve_is_the_one_thread_solve(monkeypatch):
     two = solve(scene, method, disc=one.disc)
     assert two.info["iterations"] == one.info["iterations"]
     rel = np.linalg.norm(two.coeffs - one.coeffs) / np.linalg.norm(one.coeffs)
-    assert rel <= 4e-12  # measured 1.4e-12 (the enrichment unknowns' scales amplify round-off)
+    assert rel <= 3e-12  # measured 1.0e-12 (the enrichment unknowns' scales amplify round-off)
+    assert np.array_equal(solve(scene, method, disc=one.disc).coeffs, two.coeffs)
+    monkeypatch.setattr(compiled_operators, "solve_threads", lambda: 1)
+    assert np.array_equal(solve(scene, method, disc=one.disc).coeffs, one.coeffs)
+
+
+def test_the_auxiliary_preconditioner_is_the_same_on_every_set_up():
+    """pyamg's spectral-radius estimates start from the legacy global random state; the set-up
+    fixes it, so two set-ups on one system give the same operator to the bit (without: up to
+    1e-5 apart, measured), and the caller's global random state is left as it was."""
+    scene = _cracked_plate()
+    method = EFG(spacing=0.5, bc="penalty").for_scene(scene)
+    disc = discretize(scene, method)
+    K = stiffness(disc.shape, disc.points.w, scene.material.D)
+    A = csr_array(constrained_system(disc, K, loads(disc), method).A)
+    space = auxiliary_space(disc)
+    r = np.random.default_rng(5).standard_normal(A.shape[0])
+    np.random.seed(3)  # noqa: NPY002 - the legacy state the set-up must leave alone
+    expected = np.random.rand()  # noqa: NPY002
+    np.random.seed(3)  # noqa: NPY002
+    out = [auxiliary_preconditioner(A, csr_array(K), space.x, space.phi, space.D, domain=space.domain,
+                                    cuts=space.cuts)[0] @ r for _ in range(2)]
+    assert np.random.rand() == expected  # noqa: NPY002
+    assert np.array_equal(out[0], out[1])

@@ -17,7 +17,7 @@ only, and so does the result: the Chebyshev steps are row by row (the same to th
 one thread); the product's parts each sum into their own buffer, added in thread order (the
 same as one thread's to round-off, ~1e-16 relative). The preconditioner stays a fixed
 linear operator. The Gauss-Seidel sweeps of the V-cycle stay on one thread: their order
-defines the smoother.
+defines the smoother; the V-cycle's residual and transfer products are split by rows too.
 """
 
 from __future__ import annotations
@@ -244,11 +244,19 @@ def _csr_unsigned(M):
 
 
 def _product(M, x):
+    """``M x`` for ``M`` from :func:`_csr_unsigned`, rows split over :func:`solve_threads`
+    threads (each row's sum as on one thread: the same result to the bit)."""
     from .solve_kernels import csr_product
 
     indptr, indices, data, rows = M
     y = np.empty(rows)
-    csr_product(indptr, indices, data, x, y)
+    threads = solve_threads()
+    if threads == 1:
+        csr_product(indptr, indices, data, x, y)
+        return y
+    b = row_split(indptr, threads).tolist()
+    on_threads([lambda lo=lo, hi=hi: csr_product(indptr[lo:hi + 1], indices, data, x, y[lo:hi])
+                for lo, hi in zip(b[:-1], b[1:], strict=True)])
     return y
 
 
