@@ -2,6 +2,12 @@
 (``compiled_operators.THREADED``), taking turns in one process on one 97k-node cracked plate.
 
 Run:  NUMBA_NUM_THREADS=2 PYTHONPATH=. python benchmarks/solve_threads.py --nodes 1e5 --rounds 3
+      NUMBA_NUM_THREADS=2 PYTHONPATH=. python benchmarks/solve_threads.py --end-to-end --rounds 2
+
+``--end-to-end``: whole runs instead, each in a fresh process (``scaling.child``: warm-up, then
+the timed ``solve``, as benchmarks/scaling.py runs them), ``THREADED`` off and on in turn; per
+run the wall time, stages, CG iterations, K_I, peak memory, the child's CPU time and the load
+average at its start.
 
 One discretisation, stiffness and load vector (benchmarks/solve_stage.py's ``build``); a
 warm-up solve (compiles or loads the kernels, captures the Chebyshev operators the
@@ -58,6 +64,30 @@ def full_product(K, threads: int):
     return product
 
 
+def end_to_end(n_nodes: float, threaded: bool) -> dict:
+    """``scaling.child`` at about ``n_nodes`` nodes in a fresh process with
+    ``compiled_operators.THREADED = threaded``; its CPU time and the load at its start."""
+    import resource
+    import subprocess
+
+    import scaling
+
+    bench = str(Path(__file__).resolve().parent)
+    code = (f"import json, sys; sys.path.insert(0, {bench!r}); import scaling; "
+            f"from efgkit.system import compiled_operators as co; co.THREADED = {threaded!r}; "
+            f"print(json.dumps(scaling.child({(n_nodes / scaling.BASE_NODES) ** 0.5!r}, "
+            "{'bc': 'lagrange'})))")
+    load = os.getloadavg()[0]
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    out = json.loads(proc.stdout.strip().splitlines()[-1])
+    return {"threaded": threaded, "load": load, "wall_s": out["wall_s"], "stages_s": out["stages_s"],
+            "iterations": out["solver"].get("iterations"), "KI": out["KI"],
+            "peak_gb": out["peak_total_bytes"] / 1e9,
+            "cpu_s": (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)}
+
+
 def main(argv=None) -> None:
     import numba
     import numpy as np
@@ -70,7 +100,13 @@ def main(argv=None) -> None:
     ap.add_argument("--nodes", type=float, default=1e5)
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--repeat", type=int, default=15)
+    ap.add_argument("--end-to-end", action="store_true")
     args = ap.parse_args(argv)
+    if args.end_to_end:
+        for rnd in range(args.rounds):
+            for flag in (False, True):
+                print(json.dumps({"round": rnd + 1, **end_to_end(args.nodes, flag)}), flush=True)
+        return
     threads = numba.get_num_threads()
     t0 = time.perf_counter()
     scene, method, disc, K, f = solve_stage.build(args.nodes)

@@ -13,11 +13,14 @@ The product with ``A`` and the Chebyshev steps run on :func:`solve_threads` thre
 ``NUMBA_NUM_THREADS``, as the stiffness assembly; one if :data:`THREADED` is off): rows split
 into one contiguous range per thread with equal numbers of stored entries, each range a
 GIL-free kernel call, the first on the calling thread. The split depends on the thread count
-only, and so does the result: the Chebyshev steps are row by row (the same to the bit as on
-one thread); the product's parts each sum into their own buffer, added in thread order (the
-same as one thread's to round-off, ~1e-16 relative). The preconditioner stays a fixed
-linear operator. The Gauss-Seidel sweeps of the V-cycle stay on one thread: their order
-defines the smoother; the V-cycle's residual and transfer products are split by rows too.
+only: the Chebyshev steps are row by row (the same to the bit on any thread count). The
+product's rows are split into :data:`PRODUCT_PARTS` ranges on every thread count (one thread
+runs them in turn), each summed into its own buffer, the buffers added in a fixed order: the
+same to the bit on one thread and on two (against the one-pass :func:`symmetric_product` of
+:mod:`~efgkit.system.solve_kernels`: round-off, ~1e-16 relative). The preconditioner stays a
+fixed linear operator and the solve does not depend on the thread count. The Gauss-Seidel
+sweeps of the V-cycle stay on one thread (their order defines the smoother); its residual and
+transfer products are split by rows too (row by row: the same to the bit).
 """
 
 from __future__ import annotations
@@ -36,6 +39,9 @@ _SWEEPS = {"symmetric": (True, False), "forward": (True,), "backward": (False,)}
 # Products with A and Chebyshev steps on numba.get_num_threads() threads (False: one thread).
 # Chosen by benchmarks/solve_threads.py (docs/performance.md, solve_stage_notes).
 THREADED = True
+# Row ranges of the product with A on any thread count (one thread runs them in turn): the
+# same sums, so the same result to the bit, on one thread and on two.
+PRODUCT_PARTS = 2
 _POOL: dict = {}
 
 
@@ -63,11 +69,13 @@ def row_split(indptr: np.ndarray, parts: int) -> np.ndarray:
     return np.maximum.accumulate(bounds)
 
 
-def on_threads(calls: list) -> None:
-    """Run the callables ``calls``: the first on this thread, the others on a pool's threads
-    (the kernels release the GIL); returns when all have."""
-    if len(calls) == 1:
-        calls[0]()
+def on_threads(calls: list, threads: int | None = None) -> None:
+    """Run the callables ``calls``: one after the other on this thread if ``threads`` is 1, else
+    the first on this thread and the others on a pool's threads (the kernels release the GIL);
+    returns when all have."""
+    if len(calls) == 1 or threads == 1:
+        for c in calls:
+            c()
         return
     k = len(calls) - 1
     if k not in _POOL:
@@ -132,32 +140,31 @@ class SymmetricOperator:
         self.shape, self.dtype = (n, n), np.dtype(float)
         self._splits: dict = {}
 
-    def _split(self, threads: int) -> tuple:
-        """Row bounds and one buffer per further thread (the parts' sums), per thread count."""
-        if threads not in self._splits:
-            self._splits[threads] = (row_split(self.indptr, threads).tolist(),
-                                     [np.empty(self.shape[0]) for _ in range(threads - 1)])
-        return self._splits[threads]
+    def _split(self, parts: int) -> tuple:
+        """Row bounds and one buffer per further part (its sums), per number of parts."""
+        if parts not in self._splits:
+            self._splits[parts] = (row_split(self.indptr, parts).tolist(),
+                                   [np.empty(self.shape[0]) for _ in range(parts - 1)])
+        return self._splits[parts]
 
     def diagonal(self) -> np.ndarray:
         """The diagonal of ``A`` (n,)."""
         return self.diag
 
     def __matmul__(self, x: np.ndarray) -> np.ndarray:
-        from .solve_kernels import symmetric_product, symmetric_product_part
+        """``A x`` (n,): the :data:`PRODUCT_PARTS` row ranges of the upper triangle, each into
+        its own buffer, on :func:`solve_threads` threads, the buffers added in a fixed order."""
+        from .solve_kernels import symmetric_product_part
 
         x = np.ascontiguousarray(x, dtype=float)
         y = np.empty_like(x)
-        threads = solve_threads()
-        if threads == 1:
-            symmetric_product(self.indptr, self.indices, self.data, self.diag, x, y)
-            return y
-        bounds, extra = self._split(threads)
+        parts = max(1, min(PRODUCT_PARTS, self.shape[0]))
+        bounds, extra = self._split(parts)
         outs = [y, *extra]
         args = (self.indptr, self.indices, self.data, self.diag, x)
         on_threads([lambda t=t: symmetric_product_part(*args, outs[t], bounds[t], bounds[t + 1], t == 0)
-                     for t in range(threads)])
-        for t in range(1, threads):  # fixed order: the same sums on every call
+                    for t in range(parts)], solve_threads())
+        for t in range(1, parts):  # fixed order: the same sums on every call and thread count
             lo = bounds[t]
             y[lo:] += extra[t - 1][lo:]
         return y
