@@ -196,11 +196,11 @@ def _random_spd(n, seed):
 
 @pytest.mark.parametrize("threads", [2, 3])
 def test_threaded_product_and_chebyshev_are_the_one_thread_ones(threads, monkeypatch):
-    """Row ranges on ``threads`` threads (a Python pool: runs with NUMBA_NUM_THREADS=1 too): the
-    product with the upper triangle (PRODUCT_PARTS ranges on any thread count) and the
-    Chebyshev polynomial are the same to the bit as on one thread, on every call; the product
-    equals the one-pass serial kernel's to round-off (the parts' sums added in another order)
-    and the full product's."""
+    """Row ranges on ``threads`` threads (a Python pool: runs with NUMBA_NUM_THREADS=1 too): with
+    THREADED the product with the upper triangle (PRODUCT_PARTS ranges on any thread count) and
+    the Chebyshev polynomial are the same to the bit as on one thread, on every call; the
+    product equals the one-pass kernel's (THREADED off) to round-off (the parts' sums added in
+    another order) and the full product's."""
     from efgkit.system.solve_kernels import symmetric_product
 
     A, rng = _random_spd(400, 11)
@@ -208,14 +208,16 @@ def test_threaded_product_and_chebyshev_are_the_one_thread_ones(threads, monkeyp
     r = rng.standard_normal((400, 2))
     S = SymmetricOperator(A)
     Y = CompiledChebyshev(csr_array(A / (2 * A.diagonal().max())), 6, (0.03, 1.05))
+    one_pass = np.empty(400)
+    symmetric_product(S.indptr, S.indices, S.data, S.diag, x, one_pass)
+    assert np.array_equal(S @ x, one_pass)  # THREADED off (the default): the one pass
+    monkeypatch.setattr(compiled_operators, "THREADED", True)
     monkeypatch.setattr(compiled_operators, "solve_threads", lambda: 1)
     serial = S @ x, Y(r)
     monkeypatch.setattr(compiled_operators, "solve_threads", lambda: threads)
     got = S @ x, Y(r)
     assert np.array_equal(got[0], serial[0]) and np.array_equal(got[1], serial[1])
     assert np.array_equal(S @ x, got[0]) and np.array_equal(Y(r), got[1])
-    one_pass = np.empty(400)
-    symmetric_product(S.indptr, S.indices, S.data, S.diag, x, one_pass)
     assert np.abs(got[0] - one_pass).max() <= 8e-16 * np.abs(one_pass).max()  # measured 2.6e-16
     assert np.abs(got[0] - A @ x).max() <= 1e-14 * np.abs(A @ x).max()
 
@@ -230,6 +232,7 @@ def test_row_split_covers_the_rows_in_order(monkeypatch):
     tiny = csr_array(np.array([[2.0, 1.0], [1.0, 3.0]]))
     assert compiled_operators.row_split(tiny.indptr, 4).tolist() == [0, 1, 1, 2, 2]
     S = SymmetricOperator(tiny)
+    monkeypatch.setattr(compiled_operators, "THREADED", True)
     monkeypatch.setattr(compiled_operators, "solve_threads", lambda: 4)
     assert (S @ np.array([1.0, 2.0])).tolist() == [4.0, 7.0]  # [[2, 1], [1, 3]] @ [1, 2]
 
@@ -250,6 +253,8 @@ def test_threaded_uzawa_solve_is_the_one_thread_solve(monkeypatch):
     scene = _cracked_plate()
     method = EFG(spacing=0.5, bc="lagrange", solver="amg")
     monkeypatch.setattr(compiled_operators, "COMPILED_MIN_UNKNOWNS", 0)
+    monkeypatch.setattr(compiled_operators, "THREADED", True)
+    monkeypatch.setattr(compiled_operators, "solve_threads", lambda: 1)
     one = solve(scene, method)
     monkeypatch.setattr(compiled_operators, "solve_threads", lambda: 2)
     two = solve(scene, method, disc=one.disc)

@@ -13,14 +13,16 @@ The product with ``A`` and the Chebyshev steps run on :func:`solve_threads` thre
 ``NUMBA_NUM_THREADS``, as the stiffness assembly; one if :data:`THREADED` is off): rows split
 into one contiguous range per thread with equal numbers of stored entries, each range a
 GIL-free kernel call, the first on the calling thread. The split depends on the thread count
-only: the Chebyshev steps are row by row (the same to the bit on any thread count). The
-product's rows are split into :data:`PRODUCT_PARTS` ranges on every thread count (one thread
-runs them in turn), each summed into its own buffer, the buffers added in a fixed order: the
-same to the bit on one thread and on two (against the one-pass :func:`symmetric_product` of
-:mod:`~efgkit.system.solve_kernels`: round-off, ~1e-16 relative). The preconditioner stays a
-fixed linear operator and the solve does not depend on the thread count. The Gauss-Seidel
-sweeps of the V-cycle stay on one thread (their order defines the smoother); its residual and
-transfer products are split by rows too (row by row: the same to the bit).
+only: the Chebyshev steps are row by row (the same to the bit on any thread count). With
+:data:`THREADED` the product's rows are split into :data:`PRODUCT_PARTS` ranges on every
+thread count (one thread runs them in turn), each summed into its own buffer, the buffers
+added in a fixed order: the same to the bit on one thread and on two; against the one pass of
+:func:`~efgkit.system.solve_kernels.symmetric_product` (``THREADED`` off, the default) it
+differs by round-off, ~1e-16 relative (at 97k nodes: CG 89 against 87 iterations, the
+coefficients 2.9e-11 apart). The preconditioner stays a fixed linear operator; the thread
+count never changes the result. The Gauss-Seidel sweeps of the V-cycle stay on one thread
+(their order defines the smoother); its residual and transfer products are split by rows too
+(row by row: the same to the bit).
 """
 
 from __future__ import annotations
@@ -37,10 +39,12 @@ COMPILED_MIN_UNKNOWNS = 20_000
 SYMMETRY_TOL = 1e-12  # relative difference of A v from its upper triangle's (round-off: ~1e-15)
 _SWEEPS = {"symmetric": (True, False), "forward": (True,), "backward": (False,)}
 # Products with A and Chebyshev steps on numba.get_num_threads() threads (False: one thread).
-# Chosen by benchmarks/solve_threads.py (docs/performance.md, solve_stage_notes).
-THREADED = True
-# Row ranges of the product with A on any thread count (one thread runs them in turn): the
-# same sums, so the same result to the bit, on one thread and on two.
+# Off by default: on this shared 2-core machine at load ~2 the second core is taken and two
+# threads were 3-12 % slower; at load 1.4-1.7 they took 0.76-0.85 of the solve stage
+# (benchmarks/solve_threads.py; docs/performance.md, solve_stage_notes).
+THREADED = False
+# Row ranges of the product with A when THREADED, on any thread count (one thread runs them in
+# turn): the same sums, so the same result to the bit, on one thread and on two.
 PRODUCT_PARTS = 2
 _POOL: dict = {}
 
@@ -152,13 +156,17 @@ class SymmetricOperator:
         return self.diag
 
     def __matmul__(self, x: np.ndarray) -> np.ndarray:
-        """``A x`` (n,): the :data:`PRODUCT_PARTS` row ranges of the upper triangle, each into
-        its own buffer, on :func:`solve_threads` threads, the buffers added in a fixed order."""
-        from .solve_kernels import symmetric_product_part
+        """``A x`` (n,): one pass over the upper triangle, or if :data:`THREADED` its
+        :data:`PRODUCT_PARTS` row ranges, each into its own buffer, on :func:`solve_threads`
+        threads, the buffers added in a fixed order."""
+        from .solve_kernels import symmetric_product, symmetric_product_part
 
         x = np.ascontiguousarray(x, dtype=float)
         y = np.empty_like(x)
-        parts = max(1, min(PRODUCT_PARTS, self.shape[0]))
+        parts = max(1, min(PRODUCT_PARTS, self.shape[0])) if THREADED else 1
+        if parts == 1:
+            symmetric_product(self.indptr, self.indices, self.data, self.diag, x, y)
+            return y
         bounds, extra = self._split(parts)
         outs = [y, *extra]
         args = (self.indptr, self.indices, self.data, self.diag, x)
