@@ -1,7 +1,7 @@
 """The solve's product with ``A`` and Chebyshev steps on one thread against two
 (``compiled_operators.THREADED``), taking turns in one process on one 97k-node cracked plate.
 
-Run:  NUMBA_NUM_THREADS=2 PYTHONPATH=. python benchmarks/solve_threads.py --nodes 1e5 --rounds 3
+Run:  NUMBA_NUM_THREADS=2 PYTHONPATH=. python benchmarks/solve_threads.py --nodes 1e5 --rounds 4
       NUMBA_NUM_THREADS=2 PYTHONPATH=. python benchmarks/solve_threads.py --end-to-end --rounds 2
 
 ``--end-to-end``: whole runs instead, each in a fresh process (``scaling.child``: warm-up, then
@@ -11,12 +11,12 @@ average at its start.
 
 One discretisation, stiffness and load vector (benchmarks/solve_stage.py's ``build``); a
 warm-up solve (compiles or loads the kernels, captures the Chebyshev operators the
-preconditioner builds); then per round, one thread (``THREADED = False``) and then two in
-turn: after a pause of 1 s, the median wall and CPU time of the product with ``K``'s
-:class:`SymmetricOperator` (upper triangle), of the row-parallel product with the full ``K``
-(CSR, unsigned indices) and of one
+preconditioner builds); then per round, one thread (``THREADED = False``, the default: the
+one-pass product) and then two (``THREADED = True``) in turn: after a pause of 1 s, the
+median wall and CPU time of the product with ``K``'s :class:`SymmetricOperator` (upper
+triangle), of the row-parallel product with the full ``K`` (CSR, unsigned indices) and of one
 Chebyshev application (6 steps on (n, 2)), then a whole ``solve`` (its "solve" stage, set-up,
-CG, iterations, K_I, the process CPU time and the coefficients' difference from the first
+CG, iterations, K_I, the process CPU time and the coefficients' difference from the warm-up
 one-thread solve). Each measurement carries the load average (``os.getloadavg``) at its
 start. Prints one JSON line per measurement; writes nothing.
 """
