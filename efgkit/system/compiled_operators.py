@@ -30,17 +30,17 @@ from __future__ import annotations
 import numpy as np
 from scipy.sparse import csr_array
 
-__all__ = ["COMPILED_MIN_UNKNOWNS", "SYMMETRY_TOL", "THREADED", "CompiledChebyshev", "CompiledVcycle",
-           "SymmetricOperator", "on_threads", "product_operator", "row_split", "solve_threads",
-           "sweeps_of", "use_compiled"]
+__all__ = ["COMPILED_MIN_UNKNOWNS", "PRODUCT_PARTS", "SYMMETRY_TOL", "THREADED", "CompiledChebyshev",
+           "CompiledVcycle", "SymmetricOperator", "on_threads", "product_operator", "row_split",
+           "solve_threads", "sweeps_of", "use_compiled"]
 
 # The iterative solves start at linalg.AUTO_AMG_THRESHOLD (20,000) unknowns under "auto".
 COMPILED_MIN_UNKNOWNS = 20_000
 SYMMETRY_TOL = 1e-12  # relative difference of A v from its upper triangle's (round-off: ~1e-15)
 _SWEEPS = {"symmetric": (True, False), "forward": (True,), "backward": (False,)}
 # Products with A and Chebyshev steps on numba.get_num_threads() threads (False: one thread).
-# Off by default: on this shared 2-core machine at load ~2 the second core is taken and two
-# threads were 3-12 % slower; at load 1.4-1.7 they took 0.76-0.85 of the solve stage
+# Off by default: on this shared 2-core machine at load >= 1.9 (the second core taken) two
+# threads took 0.86-1.15 of the one-thread solve stage, median 1.03; at load 1.4-1.7 0.76-0.85
 # (benchmarks/solve_threads.py; docs/performance.md, solve_stage_notes).
 THREADED = False
 # Row ranges of the product with A when THREADED, on any thread count (one thread runs them in
@@ -112,6 +112,7 @@ def _unsigned(M: csr_array) -> tuple[np.ndarray, np.ndarray]:
 class SymmetricOperator:
     """``x -> A x`` for a symmetric sparse ``A`` (n, n), stored as its strict upper triangle
     (unsigned 32-bit indices) and its diagonal: half the memory traffic of a CSR product.
+    With :data:`THREADED` its row ranges share buffers: one product at a time per operator.
 
     Attributes
     ----------
