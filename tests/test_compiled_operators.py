@@ -210,7 +210,8 @@ def test_threaded_product_and_chebyshev_are_the_one_thread_ones(threads, monkeyp
     Y = CompiledChebyshev(csr_array(A / (2 * A.diagonal().max())), 6, (0.03, 1.05))
     one_pass = np.empty(400)
     symmetric_product(S.indptr, S.indices, S.data, S.diag, x, one_pass)
-    assert np.array_equal(S @ x, one_pass)  # THREADED off (the default): the one pass
+    monkeypatch.setattr(compiled_operators, "THREADED", False)
+    assert np.array_equal(S @ x, one_pass)  # THREADED off: the one pass
     monkeypatch.setattr(compiled_operators, "THREADED", True)
     monkeypatch.setattr(compiled_operators, "solve_threads", lambda: 1)
     serial = S @ x, Y(r)

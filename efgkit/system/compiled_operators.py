@@ -17,7 +17,7 @@ only: the Chebyshev steps are row by row (the same to the bit on any thread coun
 :data:`THREADED` the product's rows are split into :data:`PRODUCT_PARTS` ranges on every
 thread count (one thread runs them in turn), each summed into its own buffer, the buffers
 added in a fixed order: the same to the bit on one thread and on two; against the one pass of
-:func:`~efgkit.system.solve_kernels.symmetric_product` (``THREADED`` off, the default) it
+:func:`~efgkit.system.solve_kernels.symmetric_product` (``THREADED`` off) it
 differs by round-off, ~1e-16 relative (at 97k nodes: CG 89 against 87 iterations, the
 coefficients 2.9e-11 apart). The preconditioner stays a fixed linear operator; the thread
 count never changes the result. The Gauss-Seidel sweeps of the V-cycle stay on one thread
@@ -39,10 +39,11 @@ COMPILED_MIN_UNKNOWNS = 20_000
 SYMMETRY_TOL = 1e-12  # relative difference of A v from its upper triangle's (round-off: ~1e-15)
 _SWEEPS = {"symmetric": (True, False), "forward": (True,), "backward": (False,)}
 # Products with A and Chebyshev steps on numba.get_num_threads() threads (False: one thread).
-# Off by default: on this shared 2-core machine at load >= 1.9 (the second core taken) two
-# threads took 0.86-1.15 of the one-thread solve stage, median 1.03; at load 1.4-1.7 0.76-0.85
-# (benchmarks/solve_threads.py; docs/performance.md, solve_stage_notes).
-THREADED = False
+# On by default: over 26 rounds on this shared 2-core machine (load 0.3-2.7) two threads took
+# 0.76-1.15 of the one-thread solve stage, median 0.94 (CG 0.98); 0.83 at load < 1.9, but 1.03
+# at load >= 1.9, when other jobs hold the second core (benchmarks/solve_threads.py;
+# docs/performance.md, solve_stage_notes). Off: the one-pass product, as before.
+THREADED = True
 # Row ranges of the product with A when THREADED, on any thread count (one thread runs them in
 # turn): the same sums, so the same result to the bit, on one thread and on two.
 PRODUCT_PARTS = 2
