@@ -8,6 +8,21 @@ Each does what its scipy / pyamg counterpart does (:func:`~efgkit.system.auxilia
 the 97k-node cracked plate (docs/performance.md, solve_stage_notes). They are taken for
 systems of :data:`COMPILED_MIN_UNKNOWNS` unknowns and more (:func:`use_compiled`): below
 that a solve is over before a first compilation (seconds, cached on disk after it) pays.
+
+The product with ``A`` and the Chebyshev steps run on :func:`solve_threads` threads (numba's
+``NUMBA_NUM_THREADS``, as the stiffness assembly; one if :data:`THREADED` is off): rows split
+into one contiguous range per thread with equal numbers of stored entries, each range a
+GIL-free kernel call, the first on the calling thread. The split depends on the thread count
+only: the Chebyshev steps are row by row (the same to the bit on any thread count). With
+:data:`THREADED` the product's rows are split into :data:`PRODUCT_PARTS` ranges on every
+thread count (one thread runs them in turn), each summed into its own buffer, the buffers
+added in a fixed order: the same to the bit on one thread and on two; against the one pass of
+:func:`~efgkit.system.solve_kernels.symmetric_product` (``THREADED`` off) it
+differs by round-off, ~1e-16 relative (at 97k nodes: CG 89 against 87 iterations, the
+coefficients 2.9e-11 apart). The preconditioner stays a fixed linear operator; the thread
+count never changes the result. The Gauss-Seidel sweeps of the V-cycle stay on one thread
+(their order defines the smoother); its residual and transfer products are split by rows too
+(row by row: the same to the bit).
 """
 
 from __future__ import annotations
@@ -15,13 +30,67 @@ from __future__ import annotations
 import numpy as np
 from scipy.sparse import csr_array
 
-__all__ = ["COMPILED_MIN_UNKNOWNS", "SYMMETRY_TOL", "CompiledChebyshev", "CompiledVcycle",
-           "SymmetricOperator", "product_operator", "sweeps_of", "use_compiled"]
+__all__ = ["COMPILED_MIN_UNKNOWNS", "PRODUCT_PARTS", "SYMMETRY_TOL", "THREADED", "CompiledChebyshev",
+           "CompiledVcycle", "SymmetricOperator", "on_threads", "product_operator", "row_split",
+           "solve_threads", "sweeps_of", "use_compiled"]
 
 # The iterative solves start at linalg.AUTO_AMG_THRESHOLD (20,000) unknowns under "auto".
 COMPILED_MIN_UNKNOWNS = 20_000
 SYMMETRY_TOL = 1e-12  # relative difference of A v from its upper triangle's (round-off: ~1e-15)
 _SWEEPS = {"symmetric": (True, False), "forward": (True,), "backward": (False,)}
+# Products with A and Chebyshev steps on numba.get_num_threads() threads (False: one thread).
+# On by default: over 26 rounds on this shared 2-core machine (load 0.3-2.7) two threads took
+# 0.76-1.15 of the one-thread solve stage, median 0.94 (CG 0.98); 0.83 at load < 1.9, but 1.03
+# at load >= 1.9, when other jobs hold the second core (benchmarks/solve_threads.py;
+# docs/performance.md, solve_stage_notes). Off: the one-pass product, as before.
+THREADED = True
+# Row ranges of the product with A when THREADED, on any thread count (one thread runs them in
+# turn): the same sums, so the same result to the bit, on one thread and on two.
+PRODUCT_PARTS = 2
+_POOL: dict = {}
+
+
+def solve_threads() -> int:
+    """Threads of the product with ``A`` and the Chebyshev steps: ``numba.get_num_threads()``
+    (``NUMBA_NUM_THREADS``) if :data:`THREADED`, else 1."""
+    import numba
+
+    return max(1, int(numba.get_num_threads())) if THREADED else 1
+
+
+def row_split(indptr: np.ndarray, parts: int) -> np.ndarray:
+    """Bounds (parts + 1,) of ``parts`` contiguous row ranges of a CSR matrix with row pointers
+    ``indptr`` (n + 1,), with about equal numbers of stored entries each.
+
+    Examples
+    --------
+    >>> row_split(np.array([0, 4, 5, 6, 7, 8]), 2).tolist()
+    [0, 1, 5]
+    """
+    indptr = np.asarray(indptr, dtype=np.int64)
+    bounds = np.searchsorted(indptr, np.arange(parts + 1) * (indptr[-1] / parts), side="left")
+    bounds = np.clip(bounds, 0, len(indptr) - 1)
+    bounds[0], bounds[-1] = 0, len(indptr) - 1
+    return np.maximum.accumulate(bounds)
+
+
+def on_threads(calls: list, threads: int | None = None) -> None:
+    """Run the callables ``calls``: one after the other on this thread if ``threads`` is 1, else
+    the first on this thread and the others on a pool's threads (the kernels release the GIL);
+    returns when all have."""
+    if len(calls) == 1 or threads == 1:
+        for c in calls:
+            c()
+        return
+    k = len(calls) - 1
+    if k not in _POOL:
+        from concurrent.futures import ThreadPoolExecutor
+
+        _POOL[k] = ThreadPoolExecutor(k, thread_name_prefix="efgkit-solve")
+    futures = [_POOL[k].submit(c) for c in calls[1:]]
+    calls[0]()
+    for f in futures:
+        f.result()
 
 
 def use_compiled(n: int) -> bool:
@@ -44,6 +113,7 @@ def _unsigned(M: csr_array) -> tuple[np.ndarray, np.ndarray]:
 class SymmetricOperator:
     """``x -> A x`` for a symmetric sparse ``A`` (n, n), stored as its strict upper triangle
     (unsigned 32-bit indices) and its diagonal: half the memory traffic of a CSR product.
+    With :data:`THREADED` its row ranges share buffers: one product at a time per operator.
 
     Attributes
     ----------
@@ -74,17 +144,39 @@ class SymmetricOperator:
         upper_fill(A.indptr, A.indices, A.data, indptr, self.indices, self.data, self.diag)
         self.indptr = indptr.astype(np.uint64)
         self.shape, self.dtype = (n, n), np.dtype(float)
+        self._splits: dict = {}
+
+    def _split(self, parts: int) -> tuple:
+        """Row bounds and one buffer per further part (its sums), per number of parts."""
+        if parts not in self._splits:
+            self._splits[parts] = (row_split(self.indptr, parts).tolist(),
+                                   [np.empty(self.shape[0]) for _ in range(parts - 1)])
+        return self._splits[parts]
 
     def diagonal(self) -> np.ndarray:
         """The diagonal of ``A`` (n,)."""
         return self.diag
 
     def __matmul__(self, x: np.ndarray) -> np.ndarray:
-        from .solve_kernels import symmetric_product
+        """``A x`` (n,): one pass over the upper triangle, or if :data:`THREADED` its
+        :data:`PRODUCT_PARTS` row ranges, each into its own buffer, on :func:`solve_threads`
+        threads, the buffers added in a fixed order."""
+        from .solve_kernels import symmetric_product, symmetric_product_part
 
         x = np.ascontiguousarray(x, dtype=float)
         y = np.empty_like(x)
-        symmetric_product(self.indptr, self.indices, self.data, self.diag, x, y)
+        parts = max(1, min(PRODUCT_PARTS, self.shape[0])) if THREADED else 1
+        if parts == 1:
+            symmetric_product(self.indptr, self.indices, self.data, self.diag, x, y)
+            return y
+        bounds, extra = self._split(parts)
+        outs = [y, *extra]
+        args = (self.indptr, self.indices, self.data, self.diag, x)
+        on_threads([lambda t=t: symmetric_product_part(*args, outs[t], bounds[t], bounds[t + 1], t == 0)
+                    for t in range(parts)], solve_threads())
+        for t in range(1, parts):  # fixed order: the same sums on every call and thread count
+            lo = bounds[t]
+            y[lo:] += extra[t - 1][lo:]
         return y
 
     matvec = __matmul__
@@ -116,10 +208,15 @@ class CompiledChebyshev:
         self.indptr, self.indices = _unsigned(F)
         self.data, self.degree = F.data, degree
         self.interval = tuple(float(v) for v in interval)
+        self._splits: dict = {}
 
     def __call__(self, r: np.ndarray) -> np.ndarray:
-        from .solve_kernels import chebyshev_step
+        from .solve_kernels import chebyshev_rows, chebyshev_step
 
+        threads = solve_threads()
+        if threads > 1 and threads not in self._splits:
+            self._splits[threads] = row_split(self.indptr, threads).tolist()
+        bounds = self._splits.get(threads)
         a, b = self.interval
         theta, delta = (b + a) / 2, (b - a) / 2
         sigma = theta / delta
@@ -130,8 +227,13 @@ class CompiledChebyshev:
         d_next = np.empty_like(d)
         for _ in range(self.degree):
             rho_new = 1 / (2 * sigma - rho)
-            chebyshev_step(self.indptr, self.indices, self.data, x, res, d, d_next,
-                           rho_new * rho, 2 * rho_new / delta)
+            args = (self.indptr, self.indices, self.data, x, res, d, d_next, rho_new * rho,
+                    2 * rho_new / delta)
+            if threads == 1:
+                chebyshev_step(*args)
+            else:
+                on_threads([lambda a=args, lo=bounds[t], hi=bounds[t + 1]: chebyshev_rows(*a, lo, hi)
+                             for t in range(threads)])
             d, d_next = d_next, d
             rho = rho_new
         return x
@@ -159,11 +261,19 @@ def _csr_unsigned(M):
 
 
 def _product(M, x):
+    """``M x`` for ``M`` from :func:`_csr_unsigned`, rows split over :func:`solve_threads`
+    threads (each row's sum as on one thread: the same result to the bit)."""
     from .solve_kernels import csr_product
 
     indptr, indices, data, rows = M
     y = np.empty(rows)
-    csr_product(indptr, indices, data, x, y)
+    threads = solve_threads()
+    if threads == 1:
+        csr_product(indptr, indices, data, x, y)
+        return y
+    b = row_split(indptr, threads).tolist()
+    on_threads([lambda lo=lo, hi=hi: csr_product(indptr[lo:hi + 1], indices, data, x, y[lo:hi])
+                for lo, hi in zip(b[:-1], b[1:], strict=True)])
     return y
 
 

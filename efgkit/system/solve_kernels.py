@@ -32,8 +32,8 @@ from numba import njit
 
 from ..timing import watch_compiles
 
-__all__ = ["chebyshev_step", "csr_product", "gauss_seidel_sweep", "symmetric_product", "upper_counts",
-           "upper_fill"]
+__all__ = ["chebyshev_rows", "chebyshev_step", "csr_product", "gauss_seidel_sweep", "symmetric_product",
+           "symmetric_product_part", "upper_counts", "upper_fill"]
 
 watch_compiles()
 
@@ -57,6 +57,32 @@ def symmetric_product(indptr, indices, data, diag, x, y):  # pragma: no cover - 
 
 
 @njit(cache=True, nogil=True)
+def symmetric_product_part(indptr, indices, data, diag, x, y, lo, hi, first):  # pragma: no cover
+    """The part of :func:`symmetric_product` of the upper-triangle rows ``lo <= i < hi``, for
+    one thread of a row split: into ``y`` (n,), its own buffer, the diagonal term of every row
+    if ``first`` (the part with ``lo = 0``), else zeros from ``lo`` on; then each row's sum
+    into ``y_i`` and its transposed terms into ``y_j`` (``j > i >= lo``: entries below ``lo``
+    are neither written nor read). ``A x`` is the first part's ``y`` plus each further part's
+    ``y[lo:]``, added in a fixed order (:class:`~efgkit.system.compiled_operators.SymmetricOperator`)."""
+    n = len(diag)
+    if first:
+        for i in range(n):
+            y[i] = diag[i] * x[i]
+    else:
+        for i in range(lo, n):
+            y[i] = 0.0
+    for i in range(lo, hi):
+        s = 0.0
+        xi = x[i]
+        for k in range(indptr[i], indptr[i + 1]):
+            j = indices[k]
+            a = data[k]
+            s += a * x[j]
+            y[j] += a * xi
+        y[i] += s
+
+
+@njit(cache=True, nogil=True)
 def csr_product(indptr, indices, data, x, y):  # pragma: no cover - compiled
     """``y = A x`` (n,) for CSR ``A``."""
     for i in range(len(indptr) - 1):
@@ -67,10 +93,12 @@ def csr_product(indptr, indices, data, x, y):  # pragma: no cover - compiled
 
 
 @njit(cache=True, nogil=True)
-def chebyshev_step(indptr, indices, data, x, res, d, d_next, c_d, c_r):  # pragma: no cover
-    """One step of the Chebyshev recurrence on (m, 2) arrays, row by row: ``x += d``,
-    ``res -= F d``, ``d_next = c_d d + c_r res`` (Saad, Alg. 12.1; ``F`` CSR (m, m))."""
-    for i in range(len(indptr) - 1):
+def chebyshev_rows(indptr, indices, data, x, res, d, d_next, c_d, c_r, lo, hi):  # pragma: no cover
+    """One step of the Chebyshev recurrence on (m, 2) arrays, rows ``lo <= i < hi``: ``x += d``,
+    ``res -= F d``, ``d_next = c_d d + c_r res`` (Saad, Alg. 12.1; ``F`` CSR (m, m)). Each row
+    reads ``d`` and writes its own row of ``x``, ``res``, ``d_next``: row ranges run on parallel
+    threads with the same result to the bit."""
+    for i in range(lo, hi):
         s0 = 0.0
         s1 = 0.0
         for k in range(indptr[i], indptr[i + 1]):
@@ -86,6 +114,12 @@ def chebyshev_step(indptr, indices, data, x, res, d, d_next, c_d, c_r):  # pragm
         res[i, 1] = r1
         d_next[i, 0] = c_d * d[i, 0] + c_r * r0
         d_next[i, 1] = c_d * d[i, 1] + c_r * r1
+
+
+@njit(cache=True, nogil=True)
+def chebyshev_step(indptr, indices, data, x, res, d, d_next, c_d, c_r):  # pragma: no cover
+    """:func:`chebyshev_rows` on all rows."""
+    chebyshev_rows(indptr, indices, data, x, res, d, d_next, c_d, c_r, 0, len(indptr) - 1)
 
 
 @njit(cache=True, nogil=True)
