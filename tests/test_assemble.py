@@ -1,5 +1,5 @@
 """Stiffness assembly: compiled kernel against the scipy.sparse reference, symmetry,
-rigid-body null space, test/trial operators, loads and lumped mass."""
+rigid-body null space, test/trial operators, loads and the lumped mass's total."""
 
 import numpy as np
 import pytest
@@ -9,8 +9,9 @@ from efgkit import EFG, Domain, Elastic
 from efgkit.approx.mls import mls_shape
 from efgkit.approx.shape import Shape
 from efgkit.nodes import generate_nodes
-from efgkit.system.assemble import load_vector, lumped_mass, stiffness
+from efgkit.system.assemble import load_vector, stiffness
 from efgkit.system.constraints import rigid_body_modes
+from efgkit.system.mass import row_sum_mass
 
 
 @pytest.fixture(scope="module")
@@ -73,7 +74,7 @@ def test_load_vector_resultant(setup):
 
 def test_lumped_mass_total(setup):
     nodes, xq, w, sh = setup
-    m = lumped_mass(sh, w, rho=7.5)
+    m = row_sum_mass(sh, w, rho=7.5)
     np.testing.assert_allclose(m[0::2].sum(), 7.5, rtol=1e-12)
     assert np.all(m[0::2] == m[1::2])
 

@@ -26,22 +26,28 @@ def _cracked_plate():
                  cracks=(Crack([[0.0, 8.0], [3.5, 8.0]], tips=(False, True)),))
 
 
+def _plate_system(bc: str, spacing: float = 1.0):
+    """(A, K, auxiliary space) of :func:`_cracked_plate` with ``bc``: the arguments of
+    auxiliary_preconditioner."""
+    scene = _cracked_plate()
+    method = EFG(spacing=spacing, bc=bc).for_scene(scene)
+    disc = discretize(scene, method)
+    K = stiffness(disc.shape, disc.points.w, scene.material.D)
+    system = constrained_system(disc, K, loads(disc), method)
+    return csr_array(system.A), csr_array(K), auxiliary_space(disc)
+
+
 @pytest.mark.parametrize("bc", ["penalty", "variational"])
 def test_preconditioner_is_symmetric_positive_definite(bc):
     """The block Gauss-Seidel sweep (layer, interior, layer) with the Jacobi steps around
     Y V Y^T is symmetric by construction and positive definite for omega lambda_max < 2:
     its dense matrix, column by column, on a small cracked plate (enriched, so the layer holds
     the enrichment unknowns too)."""
-    scene = _cracked_plate()
-    method = EFG(spacing=1.0, bc=bc).for_scene(scene)
-    disc = discretize(scene, method)
-    K = stiffness(disc.shape, disc.points.w, scene.material.D)
-    system = constrained_system(disc, K, loads(disc), method)
-    space = auxiliary_space(disc)
-    M, info = auxiliary_preconditioner(csr_array(system.A), csr_array(K), space.x, space.phi,
-                                       space.D, domain=space.domain, cuts=space.cuts)
+    A, K, space = _plate_system(bc)
+    M, info = auxiliary_preconditioner(A, K, space.x, space.phi, space.D, domain=space.domain,
+                                       cuts=space.cuts)
     assert info["layer"] > 0 and info["interior"] > 0
-    S = _scaled_dense(M, system.A.shape[0])
+    S = _scaled_dense(M, A.shape[0])
     assert np.abs(S - S.T).max() <= 1e-11  # measured 1.1e-13
     assert np.linalg.eigvalsh(0.5 * (S + S.T)).min() > 1e-3  # measured 8.7e-3 (penalty)
 

@@ -9,14 +9,10 @@ import numpy as np
 import pytest
 from scipy.sparse import coo_array, csr_array, random_array
 from scipy.spatial import Delaunay
-from test_auxiliary_smoother import _cracked_plate, _scaled_dense
+from test_auxiliary_smoother import _cracked_plate, _plate_system, _scaled_dense
 
 from efgkit import EFG, solve
-from efgkit.methods.boundary import loads
-from efgkit.methods.discretize import discretize
-from efgkit.static import auxiliary_space, constrained_system
 from efgkit.system import compiled_operators, linalg
-from efgkit.system.assemble import stiffness
 from efgkit.system.auxiliary import (
     AMG_OPTIONS,
     VCYCLE_SMOOTHERS,
@@ -141,14 +137,8 @@ def test_compiled_preconditioner_is_the_same_operator(bc, monkeypatch):
     M r by 5e-5 in the A-norm; the compiled Chebyshev steps and V-cycle alone agree with
     scipy's and pyamg's to 2e-15, and differ here by 3e-6 to 7e-5.) Scaled to a unit diagonal
     the two matrices differ by 1.0e-4 (penalty) and 3.9e-6 (Nitsche)."""
-    scene = _cracked_plate()
-    method = EFG(spacing=1.0, bc=bc).for_scene(scene)
-    disc = discretize(scene, method)
-    K = stiffness(disc.shape, disc.points.w, scene.material.D)
-    system = constrained_system(disc, K, loads(disc), method)
-    space = auxiliary_space(disc)
-    A = csr_array(system.A)
-    args = (A, csr_array(K), space.x, space.phi, space.D)
+    A, K, space = _plate_system(bc)
+    args = (A, K, space.x, space.phi, space.D)
     kw = dict(domain=space.domain, cuts=space.cuts)
     M0, _ = auxiliary_preconditioner(*args, **kw)
     monkeypatch.setattr(compiled_operators, "COMPILED_MIN_UNKNOWNS", 0)
@@ -273,17 +263,12 @@ def test_the_auxiliary_preconditioner_is_the_same_on_every_set_up():
     """pyamg's spectral-radius estimates start from the legacy global random state; the set-up
     fixes it, so two set-ups on one system give the same operator to the bit (without: up to
     1e-5 apart, measured), and the caller's global random state is left as it was."""
-    scene = _cracked_plate()
-    method = EFG(spacing=0.5, bc="penalty").for_scene(scene)
-    disc = discretize(scene, method)
-    K = stiffness(disc.shape, disc.points.w, scene.material.D)
-    A = csr_array(constrained_system(disc, K, loads(disc), method).A)
-    space = auxiliary_space(disc)
+    A, K, space = _plate_system("penalty", spacing=0.5)
     r = np.random.default_rng(5).standard_normal(A.shape[0])
     np.random.seed(3)  # noqa: NPY002 - the legacy state the set-up must leave alone
     expected = np.random.rand()  # noqa: NPY002
     np.random.seed(3)  # noqa: NPY002
-    out = [auxiliary_preconditioner(A, csr_array(K), space.x, space.phi, space.D, domain=space.domain,
+    out = [auxiliary_preconditioner(A, K, space.x, space.phi, space.D, domain=space.domain,
                                     cuts=space.cuts)[0] @ r for _ in range(2)]
     assert np.random.rand() == expected  # noqa: NPY002
     assert np.array_equal(out[0], out[1])

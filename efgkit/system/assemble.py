@@ -1,4 +1,4 @@
-"""Stiffness, loads and lumped mass from shape operators at quadrature points.
+"""Stiffness and loads from shape operators at quadrature points (the lumped mass: :mod:`efgkit.system.mass`).
 
 Stiffness (seed 003 Eq. 22a) with test functions v and trial functions phi
 (v = phi for EFG; the MLPG test operator later):
@@ -28,7 +28,7 @@ from ..jit import resolve_backend
 from .block_stack import stack_2x2
 from .dense_stiffness import DENSE_EXTRA, DENSE_WORK, dense_enrichment_blocks, dense_nodal_stiffness
 
-__all__ = ["stiffness", "load_vector", "lumped_mass", "point_to_function_map"]
+__all__ = ["stiffness", "load_vector", "point_to_function_map"]
 
 
 def point_to_function_map(shape: Shape):
@@ -399,18 +399,3 @@ def load_vector(shape: Shape, w: np.ndarray, values: np.ndarray) -> np.ndarray:
     if shape.extra is not None:
         f[n2:] = shape.extra.ux.T @ (w * v[:, 0]) + shape.extra.uy.T @ (w * v[:, 1])
     return f
-
-
-def lumped_mass(shape: Shape, w: np.ndarray, rho: float, test: Shape | None = None) -> np.ndarray:
-    """Row-sum lumped mass, seed 002 Eqs. (25)-(27): M_I = rho sum_q w_q v_I(x_q) sum_J phi_J(x_q).
-
-    MLS functions are a partition of unity (sum_J phi_J = 1), so M_I = rho sum_q w_q v_I(x_q).
-    Returns the diagonal, shape (2 n_functions,). Only dynamic scenes call this.
-    """
-    test = shape if test is None else test
-    nb = test.neighbours
-    rows, cols = np.nonzero(nb.mask)
-    pu = np.asarray(shape.phi.sum(axis=1)).ravel()
-    m = np.bincount(nb.idx[rows, cols], rho * w[rows] * pu[rows] * test.values[rows, cols],
-                    minlength=test.n_functions)
-    return np.repeat(m, 2)

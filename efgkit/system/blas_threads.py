@@ -11,13 +11,13 @@ from __future__ import annotations
 import contextlib
 import functools
 
-__all__ = ["SINGLE_BLAS_THREAD", "blas_controller", "single_blas_thread"]
+__all__ = ["SINGLE_BLAS_THREAD", "one_blas_thread", "single_blas_thread"]
 
 SINGLE_BLAS_THREAD = True  # the iterative solves run with one BLAS thread (single_blas_thread)
 
 
 @functools.cache
-def blas_controller():
+def _controller():
     """threadpoolctl's controller of the loaded BLAS libraries, found once per process (~8 ms;
     its ``limit`` then costs microseconds, a fresh ``threadpool_limits`` ~0.7 ms a call)."""
     from threadpoolctl import ThreadpoolController
@@ -25,8 +25,14 @@ def blas_controller():
     return ThreadpoolController()
 
 
+def one_blas_thread():
+    """A context in which BLAS runs on one thread (the dense Cholesky of small systems)."""
+    return _controller().limit(limits=1, user_api="blas")
+
+
 def single_blas_thread():
-    """A context in which BLAS runs on one thread (threadpoolctl; a null context without it).
+    """:func:`one_blas_thread` for the iterative solves (a null context with
+    :data:`SINGLE_BLAS_THREAD` off, the comparison runs of benchmarks/solve_stage.py).
 
     CG and the preconditioner's set-up call BLAS only on vectors (dot products, norms, the
     Arnoldi steps of pyamg's spectral-radius estimates), where a second thread gains
@@ -37,8 +43,4 @@ def single_blas_thread():
     solve_stage_notes)."""
     if not SINGLE_BLAS_THREAD:
         return contextlib.nullcontext()
-    try:
-        from threadpoolctl import threadpool_limits
-    except ImportError:  # pragma: no cover - a declared dependency
-        return contextlib.nullcontext()
-    return threadpool_limits(1, user_api="blas")
+    return one_blas_thread()

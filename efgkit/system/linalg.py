@@ -27,7 +27,7 @@ import numpy as np
 from scipy.sparse import csc_array, csr_array, diags_array
 from scipy.sparse.linalg import LinearOperator, MatrixRankWarning, splu
 
-from .blas_threads import blas_controller, single_blas_thread
+from .blas_threads import one_blas_thread, single_blas_thread
 from .conjugate_gradient import energy_error_bound, preconditioned_cg, ritz_range
 from .constraints import LinearSystem
 
@@ -80,8 +80,7 @@ def _direct(A, b, spd, dense: int = 0):
     if spd and A.shape[0] <= dense:  # one BLAS thread: a second one stalls on busy cores
         from scipy.linalg import cho_factor, cho_solve
 
-        with contextlib.suppress(np.linalg.LinAlgError), blas_controller().limit(limits=1,
-                                                                                   user_api="blas"):
+        with contextlib.suppress(np.linalg.LinAlgError), one_blas_thread():
             return cho_solve(cho_factor(A.toarray()), b)
     A = csc_array(A)
     opts = dict(permc_spec="MMD_AT_PLUS_A", diag_pivot_thresh=0.0,

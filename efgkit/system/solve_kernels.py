@@ -39,24 +39,6 @@ watch_compiles()
 
 
 @njit(cache=True, nogil=True)
-def symmetric_product(indptr, indices, data, diag, x, y):  # pragma: no cover - compiled
-    """``y = A x`` (n,) for symmetric ``A`` given by its strict upper triangle (CSR, sorted or
-    not) and its diagonal ``diag`` (n,): ``y_i = d_i x_i + sum_j>i a_ij x_j + sum_j<i a_ji x_j``."""
-    n = len(diag)
-    for i in range(n):
-        y[i] = diag[i] * x[i]
-    for i in range(n):
-        s = 0.0
-        xi = x[i]
-        for k in range(indptr[i], indptr[i + 1]):
-            j = indices[k]
-            a = data[k]
-            s += a * x[j]
-            y[j] += a * xi
-        y[i] += s
-
-
-@njit(cache=True, nogil=True)
 def symmetric_product_part(indptr, indices, data, diag, x, y, lo, hi, first):  # pragma: no cover
     """The part of :func:`symmetric_product` of the upper-triangle rows ``lo <= i < hi``, for
     one thread of a row split: into ``y`` (n,), its own buffer, the diagonal term of every row
@@ -80,6 +62,14 @@ def symmetric_product_part(indptr, indices, data, diag, x, y, lo, hi, first):  #
             s += a * x[j]
             y[j] += a * xi
         y[i] += s
+
+
+@njit(cache=True, nogil=True)
+def symmetric_product(indptr, indices, data, diag, x, y):  # pragma: no cover - compiled
+    """``y = A x`` (n,) for symmetric ``A`` given by its strict upper triangle (CSR, sorted or
+    not) and its diagonal ``diag`` (n,): ``y_i = d_i x_i + sum_j>i a_ij x_j + sum_j<i a_ji x_j``
+    (:func:`symmetric_product_part` on all rows)."""
+    symmetric_product_part(indptr, indices, data, diag, x, y, 0, len(diag), True)
 
 
 @njit(cache=True, nogil=True)
