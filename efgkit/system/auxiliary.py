@@ -58,7 +58,7 @@ from scipy.sparse.linalg import LinearOperator, MatrixRankWarning, splu
 from .auxiliary_p1 import p1_stiffness
 
 __all__ = ["AuxiliarySpace", "auxiliary_preconditioner", "chebyshev_inverse", "coarse_solver",
-           "jacobi_spectral_radius", "p1_stiffness", "vcycle"]
+           "jacobi_spectral_radius", "p1_stiffness", "smoothed_aggregation", "vcycle"]
 
 CHEBYSHEV_DEGREE = 8
 # The EFG preconditioner's polynomial degree and Jacobi damping (omega lambda_max); CG iterations
@@ -166,6 +166,22 @@ class _PseudoInverse:
         return self.pinv @ b
 
 
+def smoothed_aggregation(A, B, **options):
+    """pyamg's smoothed-aggregation hierarchy of ``A`` with near-nullspace ``B``, built from a
+    fixed random state: pyamg estimates the spectral radius of each level (the prolongation
+    smoother's weight) by Lanczos from ``np.random.rand``, which changed the preconditioner by
+    up to 1e-5 and CG by 86-90 iterations between set-ups of the same system. The caller's
+    legacy global state is restored afterwards."""
+    import pyamg
+
+    state = np.random.get_state()  # noqa: NPY002 - pyamg draws from the legacy global state
+    np.random.seed(0)  # noqa: NPY002
+    try:
+        return pyamg.smoothed_aggregation_solver(A, B=B, **options)
+    finally:
+        np.random.set_state(state)  # noqa: NPY002
+
+
 def coarse_solver(A):
     """LU of the coarsest multigrid level; a pseudo-inverse when that level is singular (an
     aggregate of one node cannot carry three rigid-body candidates, and the tentative
@@ -253,8 +269,6 @@ def auxiliary_preconditioner(A: csr_array, K: csr_array, x: np.ndarray, phi: csr
     info : dict
         Setup seconds per part (``t_*``) and the block sizes.
     """
-    import pyamg
-
     from .compiled_operators import use_compiled
 
     t = {"start": time.perf_counter()}
@@ -289,16 +303,7 @@ def auxiliary_preconditioner(A: csr_array, K: csr_array, x: np.ndarray, phi: csr
     from .constraints import rigid_body_modes
 
     smoothers = VCYCLE_SMOOTHERS if SMOOTHER else {}
-    # pyamg estimates the spectral radius of each level (the prolongation smoother's weight)
-    # by Lanczos from np.random.rand: a fixed start for the same hierarchy on every call (it
-    # changed M by up to 1e-5 and CG by 86-90 iterations between calls on the same system).
-    state = np.random.get_state()  # noqa: NPY002 - pyamg draws from the legacy global state
-    np.random.seed(0)  # noqa: NPY002
-    try:
-        ml = pyamg.smoothed_aggregation_solver(Pi, B=rigid_body_modes(x)[idof[mask]],
-                                               **(AMG_OPTIONS | smoothers))
-    finally:
-        np.random.set_state(state)  # noqa: NPY002
+    ml = smoothed_aggregation(Pi, rigid_body_modes(x)[idof[mask]], **(AMG_OPTIONS | smoothers))
     coarse = coarse_solver(ml.levels[-1].A)
     t["amg"] = time.perf_counter()
     F = csr_array(phi[inner][:, inner])

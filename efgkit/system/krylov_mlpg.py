@@ -41,7 +41,15 @@ import numpy as np
 from scipy.sparse import coo_array, csc_array, csr_array
 from scipy.sparse.linalg import LinearOperator, splu
 
-from .auxiliary import AMG_OPTIONS, AuxiliarySpace, chebyshev_inverse, coarse_solver, p1_stiffness, vcycle
+from .auxiliary import (
+    AMG_OPTIONS,
+    AuxiliarySpace,
+    chebyshev_inverse,
+    coarse_solver,
+    p1_stiffness,
+    smoothed_aggregation,
+    vcycle,
+)
 from .constraints import LinearSystem, rigid_body_modes
 from .linalg import SolverError
 
@@ -109,8 +117,6 @@ def surrogate_preconditioner(A, space: AuxiliarySpace, layer, free=None):
     M : LinearOperator (n, n)
     info : dict with ``layer``, ``interior``, ``levels`` and setup seconds ``t_*``.
     """
-    import pyamg
-
     t = [time.perf_counter()]
     A = csr_array(A)
     n, nn = A.shape[0], len(space.x)
@@ -122,7 +128,7 @@ def surrogate_preconditioner(A, space: AuxiliarySpace, layer, free=None):
         lone = np.flatnonzero(diag <= 0)
         Pi = csr_array(Pi + coo_array((np.abs(A.diagonal()[isys[lone]]), (lone, lone)), shape=Pi.shape))
     t.append(time.perf_counter())
-    ml = pyamg.smoothed_aggregation_solver(Pi, B=rigid_body_modes(space.x)[idof[mask]], **AMG_OPTIONS)
+    ml = smoothed_aggregation(Pi, rigid_body_modes(space.x)[idof[mask]], **AMG_OPTIONS)
     coarse = coarse_solver(ml.levels[-1].A)
     F = csr_array(space.phi[inner][:, inner])
     F.sort_indices()

@@ -99,12 +99,9 @@ def _direct(A, b, spd, dense: int = 0):
 
 def _sa_preconditioner(A, near_nullspace):
     """One V-cycle of pyamg smoothed aggregation on ``A`` itself."""
-    import pyamg
+    from .auxiliary import coarse_solver, smoothed_aggregation, vcycle
 
-    from .auxiliary import coarse_solver, vcycle
-
-    ml = pyamg.smoothed_aggregation_solver(A, B=near_nullspace, symmetry="symmetric",
-                                           max_coarse=500)
+    ml = smoothed_aggregation(A, near_nullspace, symmetry="symmetric", max_coarse=500)
     coarse = coarse_solver(ml.levels[-1].A)
     M = LinearOperator(A.shape, matvec=lambda r: vcycle(ml.levels, coarse, np.ravel(r)),
                        dtype=float)
