@@ -18,7 +18,7 @@ from efgkit.methods.discretize import discretize
 from efgkit.scenefile import load_study
 from efgkit.static import solve
 from efgkit.system.assemble import stiffness
-from efgkit.system.streamed import pairwise_sum, streamed_stiffness
+from efgkit.system.streamed import chunk_sum, streamed_stiffness
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -63,12 +63,25 @@ def test_chunk_rows_are_the_rows_of_all_points(plate):
     np.testing.assert_array_equal(ps.gradient(c, mask), d.shape.gradient(c)[rows])
 
 
-def test_pairwise_sum_adds_every_part():
+def test_chunk_sum_adds_every_part_on_its_dofs():
     rng = np.random.default_rng(0)
-    parts = [csr_array(rng.random((30, 30)) * (rng.random((30, 30)) < 0.1)) for _ in range(7)]
-    total = pairwise_sum(iter(parts))
-    np.testing.assert_allclose(total.toarray(), sum(p.toarray() for p in parts), rtol=1e-15)
-    assert pairwise_sum(iter([])) is None
+    n, parts, dense = 40, [], np.zeros((40, 40))
+    for _ in range(7):  # parts on overlapping ascending DOF subsets, some rows empty
+        dof = np.sort(rng.choice(n, size=int(rng.integers(1, 25)), replace=False))
+        block = rng.random((dof.size, dof.size)) * (rng.random((dof.size, dof.size)) < 0.3)
+        parts.append((dof, csr_array(block)))
+        dense[np.ix_(dof, dof)] += block
+    dof = np.arange(n)  # and one that cancels an entry exactly: left out, as scipy's sums do
+    i, j = np.argwhere(dense > 0)[0]
+    cancel = np.zeros((n, n))
+    cancel[i, j] = -dense[i, j]
+    parts.append((dof, csr_array(cancel)))
+    dense[i, j] = 0.0
+    K = chunk_sum(parts, n)
+    assert parts == []  # dropped as they were added
+    assert K.has_sorted_indices and K.indices.dtype == np.int32 and K.nnz == np.count_nonzero(dense)
+    np.testing.assert_allclose(K.toarray(), dense, rtol=1e-15, atol=0)
+    assert chunk_sum([], 3).nnz == 0 and chunk_sum([], 3).shape == (3, 3)
 
 
 @pytest.fixture(scope="module")

@@ -63,7 +63,7 @@ ENRICHED_POINT_BYTES = 200.0
 # leaves them to efgkit.system.streamed.streamed_stiffness, a chunk of CHUNK_POINTS at a time.
 # The peak is then the largest of: the quadrature (QUADRATURE_POINT_BYTES per point: the cells'
 # points and the box sort), the assembly (the points' x and w held, STREAM_POINT_BYTES per point,
-# plus one chunk's shape functions and the partial sums of K, STREAM_ASSEMBLY_BYTES per weighted
+# plus one chunk's shape functions, the chunks' K_c and their sum, STREAM_ASSEMBLY_BYTES per weighted
 # node) and the solve (the points held plus STREAM_NODE_BYTES per weighted node: K, the
 # constrained matrix, A_rho of the Uzawa steps and the auxiliary preconditioner), the weighted
 # nodes being nodes (d_max / 2)^2 sqrt(irregular) as for NODE_BYTES_AMG. Calibration (peak RSS

@@ -6,13 +6,12 @@ of the stiffnesses of any partition of the points into chunks. :func:`streamed_s
 forms the shape functions of one chunk of points
 (:meth:`efgkit.approx.point_shapes.PointShapes.chunk`), assembles that chunk's K_c with
 :func:`efgkit.system.assemble.stiffness` (the same kernel, the same backend as for all points
-at once), drops the chunk's shape functions, and adds the K_c pairwise: partial sums of equal
-numbers of chunks are added (a binary counter), so every stored entry is added
-O(log n_chunks) times instead of O(n_chunks) for a running sum, and at most one partial sum
-per level is held. The points are sorted by box, so a chunk's K_c touches a compact set of
-nodes and the partial sums hold about nnz(K) (1 + the chunks' overlap) entries.
+at once) on the DOFs the chunk touches, and drops the chunk's shape functions. The K_c are
+held (the points are sorted by box, so a chunk's K_c touches a compact set of nodes and all
+K_c together hold about nnz(K) (1 + the chunks' overlap) entries) and summed at the end by
+:func:`chunk_sum` into one CSR allocated once, in one pass over their entries.
 
-What is held is K, its partial sums and one chunk's shape functions, never the shape
+What is held is K, the chunks' K_c and one chunk's shape functions, never the shape
 functions at all points (29 bytes per padded (point, neighbour) slot plus the enrichment
 operators: 3.1 GB at 1e5 nodes of the cracked plate, docs/performance.md).
 """
@@ -27,75 +26,61 @@ from ..approx.shape import Shape
 from ..jit import resolve_backend
 from .assemble import stiffness
 
-__all__ = ["streamed_stiffness", "pairwise_sum", "chunk_stiffness"]
+__all__ = ["streamed_stiffness", "chunk_sum", "chunk_stiffness"]
 
 
-def _add(a: csr_array, b: csr_array) -> csr_array:
-    out = csr_array(a + b)
-    return _narrow(out)
+def chunk_stiffness(sh: Shape, w: np.ndarray, D: np.ndarray,
+                    backend: str) -> tuple[np.ndarray, csr_array]:
+    """K_c of the points of ``sh`` (a chunk) on the DOFs they touch: ``(dof (m,), K_c (m, m))``,
+    ``dof`` int64 ascending, K_c's row and column k being the global DOF ``dof[k]``.
+
+    Assembled over the nodes the points hold (:meth:`~efgkit.search.Neighbours.compact`), so
+    that a chunk's work and its K_c are of the chunk's size: over all n_functions, the
+    assembly's arrays per row and per thread, its row order and lower part, and the rows
+    :func:`chunk_sum` walks would cost n_chunks x n_nodes in all (the superlinear part of the
+    stiffness from 1e5 to 1e6 nodes before). The renumbering keeps the nodes' order, and every
+    entry is the same sum in the same order as over all nodes: the same K_c to the bit."""
+    n, N = sh.n_functions, sh.n_dofs
+    local, nodes = sh.neighbours.compact(n)
+    small = Shape(local, sh.values, sh.ddx, sh.ddy, len(nodes), sh.extra)
+    dof = np.concatenate([(2 * nodes[:, None] + np.arange(2)).ravel(), np.arange(2 * n, N)])
+    K_c = csr_array(stiffness(small, w, D, backend=backend))
+    K_c.sort_indices()  # chunk_sum merges sorted rows (a check only: the kernels sort them)
+    return dof, K_c
 
 
-def _narrow(K: csr_array) -> csr_array:
-    """``K`` with int32 index arrays when its size allows (scipy's sum may widen them)."""
-    if K.nnz < 2**31 and max(K.shape) < 2**31 and K.indices.dtype != np.int32:
-        return csr_array((K.data, K.indices.astype(np.int32), K.indptr.astype(np.int32)),
-                         shape=K.shape)
-    return K
-
-
-def pairwise_sum(parts):
-    """The sum of the sparse matrices of the iterable ``parts``, added pairwise: a partial
-    sum of 2**j parts meets the next one of 2**j parts (a binary counter), so each stored
-    entry is added about log2(len(parts)) times. Returns None for no parts.
+def chunk_sum(parts: list[tuple[np.ndarray, csr_array]], n_dofs: int) -> csr_array:
+    """K (n_dofs, n_dofs) = the sum of the chunks ``parts`` [(dof, K_c)] of
+    :func:`chunk_stiffness` (the list is emptied as they are added), columns sorted, entries
+    that sum to exactly zero left out. The output is allocated once, with room in each row for
+    the sum of its lengths over the chunks, and the chunks are merged into it in their order
+    (:mod:`efgkit.system.chunk_sum_kernels`): O(sum of the chunks' nnz). The room left over,
+    the entries two or more chunks share (6 % at 1e5 nodes of the cracked plate), stays
+    allocated behind K's arrays.
 
     Examples
     --------
-    >>> from scipy.sparse import eye_array
-    >>> S = pairwise_sum(csr_array(k * eye_array(3)) for k in range(1, 6))
-    >>> S.toarray().diagonal().tolist()
-    [15.0, 15.0, 15.0]
+    >>> parts = [(np.array([0, 2]), csr_array(np.array([[1.0, 2.0], [2.0, 1.0]]))),
+    ...          (np.array([1, 2]), csr_array(np.array([[3.0, 0.0], [0.0, 4.0]])))]
+    >>> chunk_sum(parts, 3).toarray().tolist()
+    [[1.0, 0.0, 2.0], [0.0, 3.0, 0.0], [2.0, 0.0, 5.0]]
     """
-    stack: list[tuple[int, csr_array]] = []  # (level, partial sum of 2**level parts)
-    for p in parts:
-        level, acc = 0, _narrow(csr_array(p))
-        while stack and stack[-1][0] == level:
-            _, prev = stack.pop()
-            acc, level = _add(prev, acc), level + 1
-            del prev
-        stack.append((level, acc))
-        del acc, p
-    if not stack:
-        return None
-    total = stack.pop()[1]
-    while stack:  # the smaller partial sums first
-        total = _add(stack.pop()[1], total)
-    return total
+    from .chunk_sum_kernels import add_chunk, close_gaps, output_arrays
 
-
-def chunk_stiffness(sh: Shape, w: np.ndarray, D: np.ndarray, backend: str) -> csr_array:
-    """K (n_dofs, n_dofs) of the points of ``sh`` (a chunk). With more nodes than half the
-    chunk's points, assembled over the nodes the points hold
-    (:meth:`~efgkit.search.Neighbours.compact`) and placed at those nodes' DOFs: the
-    assembly's arrays per row and per thread, its row order and lower part run over all
-    n_functions otherwise, for every chunk (n_chunks x n_nodes work in all: the superlinear
-    part of the stiffness from 1e5 to 1e6 nodes). CPU per chunk of 2**18 points of the
-    cracked plate at 1e5 nodes, the functions padded to 1, 2, 3 and 10 times its 96,980
-    nodes: 162 / 172, 172 / 143, 218 / 148, 407 / 148 ms all nodes / nodes held (medians,
-    one process, load 3.5). The renumbering keeps the nodes' order, and every entry is the
-    same sum in the same order: the same K_c to the bit."""
-    if 2 * sh.n_functions <= sh.shape[0]:
-        return stiffness(sh, w, D, backend=backend)
-    local, nodes = sh.neighbours.compact(sh.n_functions)
-    small = Shape(local, sh.values, sh.ddx, sh.ddy, len(nodes), sh.extra)
-    K = csr_array(stiffness(small, w, D, backend=backend))
-    n, N = sh.n_functions, sh.n_dofs
-    dof = np.concatenate([(2 * nodes[:, None] + np.arange(2)).ravel(),
-                          np.arange(2 * n, N)])  # local DOF -> global, ascending
-    index = np.int32 if max(N, K.nnz) < 2**31 else np.int64
-    indptr = np.zeros(N + 1, np.int64)
-    indptr[dof + 1] = np.diff(K.indptr)
-    np.cumsum(indptr, out=indptr)
-    return csr_array((K.data, dof.astype(index)[K.indices], indptr.astype(index)), shape=(N, N))
+    start = np.zeros(n_dofs + 1, np.int64)  # room of each row: its lengths summed over chunks
+    for dof, K_c in parts:
+        start[dof + 1] += np.diff(K_c.indptr)
+    np.cumsum(start, out=start)
+    index = np.int32 if max(n_dofs, start[-1]) < 2**31 else np.int64
+    out_idx, out_val = output_arrays(start[-1], np.zeros(1, index))
+    fill = np.zeros(n_dofs, np.int64)
+    while parts:  # in chunk order, each dropped once added
+        dof, K_c = parts.pop(0)
+        add_chunk(start, fill, out_idx, out_val, dof, K_c.indptr, K_c.indices, K_c.data)
+        del dof, K_c
+    indptr = close_gaps(start.astype(index), fill, out_idx, out_val)
+    return csr_array((out_val[: indptr[-1]], out_idx[: indptr[-1]], indptr),
+                     shape=(n_dofs, n_dofs))
 
 
 def streamed_stiffness(shapes: PointShapes, w: np.ndarray, D: np.ndarray, clock=None) -> csr_array:
@@ -131,22 +116,14 @@ def streamed_stiffness(shapes: PointShapes, w: np.ndarray, D: np.ndarray, clock=
         raise ValueError(f"D must have shape (3, 3), got {D.shape}")
     backend = resolve_backend("auto", shapes.n_points)
 
-    def parts():
-        for s, e in shapes.bounds():
-            sh = shapes.chunk(s, e, derivatives=True, clock=clock)
-            K_c = chunk_stiffness(sh, w[s:e], D, backend)
-            del sh  # the chunk's shape functions go before the sums
-            if clock is not None:
-                clock.lap("stiffness")
-            yield K_c
-            del K_c  # summed: not held through the next chunk
-            if clock is not None:  # the sums of the pairs (not the next chunk's search)
-                clock.lap("stiffness")
-
-    K = pairwise_sum(parts())
-    if K is None:  # no points
-        K = csr_array((shapes.n_dofs, shapes.n_dofs))
-    K.sort_indices()
+    parts = []
+    for s, e in shapes.bounds():
+        sh = shapes.chunk(s, e, derivatives=True, clock=clock)
+        parts.append(chunk_stiffness(sh, w[s:e], D, backend))
+        del sh  # the chunk's shape functions go before the next chunk's
+        if clock is not None:
+            clock.lap("stiffness")
+    K = chunk_sum(parts, shapes.n_dofs)
     if clock is not None:
         clock.lap("stiffness")
     return K
