@@ -4,8 +4,8 @@
 The output holds, for each row, room for the sum of that row's lengths over all chunks (an
 upper bound of the merged row). :func:`add_chunk` merges one chunk's rows into it: a row seen
 for the first time is copied, a row seen before is merged with the chunk's row from the back
-(both sorted by column), equal columns added, so the entries are summed in the order of the
-chunks. :func:`close_gaps` then moves the rows together and drops the entries that summed to
+of its room (both sorted by column), equal columns added, so the entries are summed in the
+order of the chunks. :func:`close_gaps` then moves the rows together and drops the entries that summed to
 exactly zero (as scipy's sparse sums do). O(sum of the chunks' nnz) work and one allocation,
 against O(nnz log n_chunks) work and ~log2(n_chunks) fresh copies of K for pairwise sums
 (docs/performance.md, chunk_sum section).
@@ -36,32 +36,27 @@ def output_arrays(size, index):  # pragma: no cover - compiled
 
 
 @njit(cache=True, nogil=True)
-def add_chunk(start, fill, out_idx, out_val, dof, indptr, indices, data):  # pragma: no cover
+def add_chunk(start, first, fill, out_idx, out_val, dof, indptr, indices, data):  # pragma: no cover
     """Add one chunk's CSR (``indptr (m + 1,)``, ``indices``, ``data``; local numbering, columns
     ascending in each row) to the rows ``dof (m,)`` (ascending local -> global) of the output.
 
-    Output row i lives in ``out_idx, out_val [start[i] : start[i + 1]]``, of which the first
-    ``fill[i]`` entries are filled (columns ascending); ``fill`` is updated."""
+    Output row i lives in ``out_idx, out_val [start[i] : start[i + 1]]``: its ``fill[i]``
+    entries (columns ascending) from ``start[i] + first[i]`` on; both are updated. A merge
+    writes from the back of the room it may need (the row's entries so far plus the chunk's,
+    which the room holds); the columns both hold leave a gap in front, so ``first`` grows."""
     for r in range(dof.shape[0]):
         q0, q1 = indptr[r], indptr[r + 1]
         if q1 == q0:
             continue
         i = dof[r]
-        b, f = start[i], fill[i]
+        b, f = start[i] + first[i], fill[i]
         if f == 0:  # first chunk with this row: a copy
             for q in range(q0, q1):
                 out_idx[b + q - q0] = dof[indices[q]]
                 out_val[b + q - q0] = data[q]
             fill[i] = q1 - q0
             continue
-        common, p, q = 0, b, q0  # columns in both: the merged row's length
-        while p < b + f and q < q1:
-            jo, jc = out_idx[p], dof[indices[q]]
-            common += jo == jc
-            p += jo <= jc
-            q += jc <= jo
-        m = f + (q1 - q0) - common
-        w, p, q = b + m - 1, b + f - 1, q1 - 1  # merge from the back: w >= p throughout
+        w, p, q = b + f + (q1 - q0) - 1, b + f - 1, q1 - 1  # w >= p throughout
         while q >= q0:
             jc = dof[indices[q]]
             if p >= b and out_idx[p] > jc:
@@ -78,11 +73,18 @@ def add_chunk(start, fill, out_idx, out_val, dof, indptr, indices, data):  # pra
                 out_val[w] = data[q]
                 q -= 1
             w -= 1
-        fill[i] = m
+        gap = w - p  # the columns in both: the row's first entries move up to close it
+        if gap > 0:
+            while p >= b:
+                out_idx[p + gap] = out_idx[p]
+                out_val[p + gap] = out_val[p]
+                p -= 1
+        first[i] += gap
+        fill[i] = f + (q1 - q0) - gap
 
 
 @njit(cache=True, nogil=True)
-def close_gaps(start, fill, out_idx, out_val):  # pragma: no cover - compiled
+def close_gaps(start, first, fill, out_idx, out_val):  # pragma: no cover - compiled
     """Move the filled part of each row to the front in row order, leaving out exact zeros;
     returns the CSR ``indptr (n + 1,)`` (the dtype of ``start``) of the result in
     ``out_idx[:indptr[-1]]``, ``out_val[:indptr[-1]]``."""
@@ -91,7 +93,8 @@ def close_gaps(start, fill, out_idx, out_val):  # pragma: no cover - compiled
     indptr[0] = 0
     m = 0
     for i in range(n):
-        for k in range(start[i], start[i] + fill[i]):
+        b = start[i] + first[i]
+        for k in range(b, b + fill[i]):
             if out_val[k] != 0.0:
                 out_idx[m] = out_idx[k]
                 out_val[m] = out_val[k]
