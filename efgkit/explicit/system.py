@@ -301,7 +301,7 @@ def dynamics(scene: Scene, method: EFG | MLPG, disc: Discretization | None = Non
             Q, qh = split_values(scene, lambda s: constrained(replace(disc, scene=s)).b[n:]
                                  if method.bc == "lagrange" else constrained(replace(disc, scene=s)).b)
             if method.bc == "lagrange":
-                projection = Projection.build(csr_array(lin.A[n:, :n]), lin.b[n:], minv)
+                projection = Projection.build(csr_array(lin.blocks[1]), lin.b[n:], minv)
             else:  # the forcing of moving supports: load columns with their histories
                 K, f_bc = lin.A, lin.b
                 if Q is not None:

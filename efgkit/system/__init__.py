@@ -10,7 +10,8 @@ its energy-error bound in ``conjugate_gradient``) and ``auxiliary``
 """
 
 from .collocation import SingularRowsError
-from .constraints import LinearSystem, RigidBodyModeError
+from .constraints import RigidBodyModeError
 from .linalg import SolverError
+from .linear_system import LinearSystem
 
 __all__ = ["LinearSystem", "RigidBodyModeError", "SingularRowsError", "SolverError"]

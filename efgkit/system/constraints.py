@@ -23,13 +23,13 @@ modified collocation method of :mod:`efgkit.system.collocation`.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.sparse import bmat, coo_array, csr_array, diags_array, vstack
+from scipy.sparse import coo_array, csr_array, diags_array, vstack
 
 from ..approx.shape import Shape
+from .linear_system import LinearSystem
 
 __all__ = ["Dirichlet", "LinearSystem", "RigidBodyModeError", "penalty", "lagrange", "rigid_body_modes",
            "modified_variational", "eliminate", "check_rigid_modes", "boundary_traction_term"]
@@ -70,44 +70,6 @@ class Dirichlet:
     segment: np.ndarray
     t: np.ndarray
     seg_nodes: np.ndarray
-
-
-@dataclass(frozen=True, eq=False)
-class LinearSystem:
-    """``A z = b`` and how to get the MLS coefficients back from ``z``.
-
-    Attributes
-    ----------
-    A : csr_array (n, n); b : (n,)
-    spd : bool
-        Symmetric positive definite (eligible for AMG + CG).
-    n_coeffs : int
-        Number of MLS coefficients, n_dofs (2 n_functions and any enrichment unknowns).
-    free : (n_free,) int or None
-        With elimination, the coefficient indices ``z`` stands for.
-    fixed_values : (n_dofs,) or None
-        With elimination, the prescribed coefficients.
-    support_forces : callable or None
-        ``z -> (x (m, 2), force (m, 2))``: the forces the essential conditions apply to
-        the body, at the points where they act, from the weak form (docs/theory.md,
-        "Reactions"); contracted with a rigid-body motion they balance the load vector.
-    """
-
-    A: csr_array
-    b: np.ndarray
-    spd: bool
-    n_coeffs: int
-    free: np.ndarray | None = None
-    fixed_values: np.ndarray | None = None
-    support_forces: Callable | None = None
-
-    def coefficients(self, z: np.ndarray) -> np.ndarray:
-        """MLS coefficients ``(n_dofs,)`` from the solution ``z``."""
-        if self.free is None:
-            return z[: self.n_coeffs]
-        c = self.fixed_values.copy()
-        c[self.free] = z
-        return c
 
 
 def _fixed_rows(ops, fixed: np.ndarray) -> csr_array:
@@ -221,21 +183,15 @@ def lagrange(K, f, bc: Dirichlet, node_x: np.ndarray, check: bool = True) -> Lin
     # prescribed displacements against forces (the multipliers come out scaled; unused).
     scale = _abs_max(K) / max(abs(G).max(), np.finfo(float).tiny) if G.shape[0] else 1.0
     G, q = csr_array(scale * G), scale * q
-    # K padded to the saddle point's size (sharing its arrays) plus the G blocks: one copy of K,
-    # not bmat's COO of it (36 instead of 12 bytes per non-zero at once; 0.7 GB at 1e5 nodes)
-    m, K = G.shape[0], csr_array(K)
-    pad = np.concatenate([K.indptr, np.full(m, K.indptr[-1], K.indptr.dtype)])
-    C = csr_array(bmat([[None, G.T], [G, None]], format="csr"))
-    if K.nnz + C.nnz < 2**31:  # int32 G blocks: an int64 operand would widen the sum's indices
-        C = csr_array((C.data, C.indices.astype(np.int32), C.indptr.astype(np.int32)), shape=C.shape)
-    A = csr_array(csr_array((K.data, K.indices, pad), shape=(K.shape[0] + m,) * 2) + C)
-    n = K.shape[0]
+    # held as its blocks: the saddle-point matrix (a copy of K) is formed only if asked for
+    n, K = K.shape[0], csr_array(K)
 
     def forces(z):  # -lambda ds at each point: the multipliers (scaled back) on the hats
         lam = np.zeros(N.shape[0])
         lam[used] = scale * z[n:]
         return bc.x, _at_points(bc.fixed, -(N.T @ lam))
-    return LinearSystem(A, np.concatenate([f, q]), spd=False, n_coeffs=n, support_forces=forces)
+    return LinearSystem(None, np.concatenate([f, q]), spd=False, n_coeffs=n, support_forces=forces,
+                        blocks=(K, G))
 
 
 DENSE_DOFS = 200  # up to this many unknowns Nitsche's terms are formed in dense arrays

@@ -127,7 +127,7 @@ class ImageTie:
         if system.free is not None or system.n_coeffs != self.T.shape[0]:
             raise ValueError("image nodes tie the coefficients of bc='penalty', 'lagrange' or "
                              "'variational' systems; use one of those for a half or quarter model")
-        n_mult = system.A.shape[0] - system.n_coeffs
+        n_mult = system.size - system.n_coeffs
         Tb = csr_array(block_diag([self.T, identity(n_mult)], format="csr")) if n_mult else self.T
         A = csr_array(Tb.T @ system.A @ Tb)
         self._check_modes(A)

@@ -197,8 +197,12 @@ def _augmented_lagrangian(system, near_nullspace, rtol, auxiliary, stiffness):
     ``G c - q``. K is ``stiffness`` when given (it is the K block: no copy of it is made).
     """
     n = system.n_coeffs
-    A = csr_array(system.A)
-    K, G = (stiffness if getattr(stiffness, "shape", None) == (n, n) else A[:n, :n]), A[n:, :n]
+    if system.blocks is not None:  # held as its blocks: no copy of K is made
+        K, G = system.blocks
+    else:
+        A = csr_array(system.A)
+        K, G = A[:n, :n], A[n:, :n]
+    K = stiffness if getattr(stiffness, "shape", None) == (n, n) else K
     f, q = system.b[:n], system.b[n:]
     d_inv = 1.0 / np.asarray(abs(G).sum(axis=1)).ravel()
     P = csr_array(G.T @ diags_array(d_inv) @ G)
@@ -298,8 +302,7 @@ def solve(system: LinearSystem, solver: str = "auto", near_nullspace=None,
     >>> z.tolist(), info["solver"]
     ([0.5, 0.25], 'direct')
     """
-    A, b = system.A, system.b
-    n = A.shape[0]
+    b, n = system.b, system.size
     saddle = _check_arguments(system, solver, rtol)
     use_amg = solver == "amg" or (solver == "auto" and (system.spd or saddle)
                                   and n > AUTO_AMG_THRESHOLD)
@@ -311,8 +314,8 @@ def solve(system: LinearSystem, solver: str = "auto", near_nullspace=None,
     if use_amg:
         z = _iterative_with_fallback(system, solver, near_nullspace, rtol, auxiliary, stiffness, bnorm, info)
     else:
-        z = _direct(A, b, system.spd, dense)
-    _check_residual(A, b, z, bnorm, rtol, info)
+        z = _direct(system.A, b, system.spd, dense)
+    _check_residual(system, z, bnorm, rtol, info)
     return z, info
 
 
@@ -320,7 +323,7 @@ def _check_arguments(system, solver, rtol) -> bool:
     """Whether ``system`` is a Lagrange saddle point; ValueError for a bad ``solver`` or ``rtol``."""
     if solver not in ("auto", "direct", "amg"):
         raise ValueError(f"solver must be 'auto', 'direct' or 'amg', got {solver!r}")
-    saddle = not system.spd and system.free is None and system.n_coeffs < system.A.shape[0]
+    saddle = not system.spd and system.free is None and system.n_coeffs < system.size
     if solver == "amg" and not (system.spd or saddle):
         raise ValueError("solver='amg' needs an SPD system or a Lagrange-multiplier saddle "
                          "point [[K, G^T], [G, 0]]: use solver='direct'")
@@ -333,13 +336,12 @@ def _iterative_with_fallback(system, solver, near_nullspace, rtol, auxiliary, st
     """CG's (Uzawa steps') z (n,), or under "auto" SuperLU's if CG missed ``rtol`` or its error bound
     exceeds ``ERROR_FACTOR * rtol``; CG statistics (and fallback) go into ``info``. SolverError for an
     untrusted answer under "amg" (a missed residual is left to :func:`_check_residual`)."""
-    A, b = system.A, system.b
     iterate = _iterative if system.spd else _augmented_lagrangian
     with single_blas_thread():
         z, extra = iterate(system, near_nullspace, rtol, auxiliary, stiffness)
     info.update(extra)
     finite = bool(np.all(np.isfinite(z)))
-    res = float(np.linalg.norm(A @ z - b)) / bnorm if finite else np.inf
+    res = float(np.linalg.norm(system.product(z) - system.b)) / bnorm if finite else np.inf
     if not res <= rtol:
         reason = f"CG missed rtol in {extra['iterations']} iterations"
     elif not extra["error_bound"] <= ERROR_FACTOR * rtol:
@@ -348,7 +350,7 @@ def _iterative_with_fallback(system, solver, near_nullspace, rtol, auxiliary, st
         return z
     if solver == "auto":
         info.update(solver="direct", fallback=reason)
-        return _direct(A, b, system.spd)
+        return _direct(system.A, system.b, system.spd)
     if res <= rtol:
         raise SolverError(
             f"solver='amg': {reason}. Remedy: solver='direct' (or 'auto', which falls back to it), "
@@ -371,12 +373,12 @@ def _untrusted(extra, res, rtol) -> str:
             "for a small residual to mean a right answer")
 
 
-def _check_residual(A, b, z, bnorm, rtol, info):
+def _check_residual(system, z, bnorm, rtol, info):
     """Stores the relative residual ``||A z - b|| / ||b||`` of z (n,) in ``info``; returns None.
     SolverError for NaN/inf in z or a residual above ``rtol``."""
     if not np.all(np.isfinite(z)):
         raise SolverError("the solve produced NaN or inf: the system is singular or overflowed")
-    res = float(np.linalg.norm(A @ z - b)) / bnorm
+    res = float(np.linalg.norm(system.product(z) - system.b)) / bnorm
     info["residual"] = res
     if not np.isfinite(res):  # A z overflowed: loads or stiffness beyond float range
         raise SolverError(f"the residual of the solve is {res} (A z or b overflowed): the loads or "
@@ -385,7 +387,7 @@ def _check_residual(A, b, z, bnorm, rtol, info):
         detail = (f" after {info['iterations']} CG iterations" if info["solver"] == "amg"
                   else "")
         raise SolverError(
-            f"relative residual {res:.2e} exceeds {rtol:.0e} ({info['solver']} solver, {A.shape[0]} "
+            f"relative residual {res:.2e} exceeds {rtol:.0e} ({info['solver']} solver, {system.size} "
             f"unknowns{detail}): the system is near-singular (check supports and the penalty "
             "factor)"
         )
