@@ -125,8 +125,12 @@ def _threads(one):
 
 
 def _grid(x, nodes, boxes, method):
+    """The box grid to search ``x`` in, or None for the k-d tree. A grid built before is used
+    under "auto" when the points or the nodes are many enough for the compiled kernels: a
+    few boundary points of a large cloud are searched in it (O(points)) rather than in a k-d
+    tree built over all nodes (O(n_nodes log n_nodes): 0.08 s at 97k nodes)."""
     if boxes is not None and (method == boxes.kind or (
-            method == "auto" and resolve_backend("auto", len(x)) == "numba")):
+            method == "auto" and resolve_backend("auto", max(len(x), nodes.n)) == "numba")):
         return boxes
     if method == "auto":
         method = choose_method(len(x), nodes)
