@@ -32,7 +32,8 @@ def _on_triangles(v: np.ndarray, degree: int, ids: np.ndarray):
 
 
 def _grid_rule(domain: Domain, seg, origin, size, cells, order):
-    """Points, weights and owner (index into cells) of the cells (c, 2) of a grid."""
+    """Points, weights and owner (index into cells) of the cells (c, 2) of a grid, as two
+    parts [(x, w, owner) of the whole cells, (x, w, owner) of the cut cells' triangles]."""
     pc, p, q = pieces((seg[:, 0] - origin) / size, (seg[:, 1] - origin) / size)
     key, piece_key = cells @ [1 << 31, 1], pc @ [1 << 31, 1]  # cells of the pieces ...
     srt = np.argsort(key)
@@ -54,8 +55,7 @@ def _grid_rule(domain: Domain, seg, origin, size, cells, order):
                              lambda u, k: domain.contains(corner[cut_ids[k]] + size * u))
     x_cut, w_cut, o_cut = _on_triangles(corner[cut_ids[tc], None, :] + size * tri,
                                         2 * order - 1, cut_ids[tc])
-    owner = np.concatenate([np.repeat(full, len(r)), o_cut])
-    return np.concatenate([x_full, x_cut]), np.concatenate([w_full, w_cut]), owner
+    return [(x_full, w_full, np.repeat(full, len(r))), (x_cut, w_cut, o_cut)]
 
 
 def _grid(domain: Domain, cell_size: float):
@@ -154,14 +154,19 @@ def cell_points(domain: Domain, cell_size: float, order: int, zones=(),
             for x, w in fans:
                 parts.append((x, w, np.full(len(x), offset)))
                 offset += 1
-        x, w, owner = _grid_rule(domain, seg, origin, size, sel,
-                                 refined_order if k > 0 else order)
-        parts.append((x, w, owner + offset))
+        for x, w, owner in _grid_rule(domain, seg, origin, size, sel,
+                                      refined_order if k > 0 else order):
+            owner += offset  # in place: the parts are concatenated once, below
+            parts.append((x, w, owner))
         offset += len(sel)
     x, w, owner = (np.concatenate(v) for v in zip(*parts, strict=True))
+    del parts
     used = np.zeros(offset, bool)
     used[owner] = True
-    return Points(x, w, (np.cumsum(used) - 1)[owner])
+    # cells numbered over those with material, in place ("clip": unbuffered; the owners are
+    # valid by construction, and each entry is read before it is written)
+    np.take(np.cumsum(used) - 1, owner, out=owner, mode="clip")
+    return Points(x, w, owner)
 
 
 def triangle_points(domain: Domain, nodes, order: int) -> Points:
