@@ -15,7 +15,8 @@ Each run is one process as in benchmarks/scaling.py (the edge-cracked plate of
 examples/edge_crack.toml refined to about ``--nodes`` nodes, the same warm-up solves), the
 trees taking turns (before, after, before, after, ...). Every stage of ``Solution.timings``
 is reported as wall time and as the process's CPU time (user + system, all threads; a
-process that waits for a core accrues none, the steadier measure on a shared machine), with
+process that waits for a core accrues none, the steadier measure on a shared machine; the
+system part, mostly the page faults of fresh memory, is kept as well), with
 the 1-minute load average at the start of the run, the peak resident memory of the process
 (``ru_maxrss``: the solve's, the warm-ups are smaller) and K_I, K_II of the tip.
 
@@ -52,18 +53,19 @@ solve(*scaling.scaled(1.6))  # the warm-ups of scaling.child: kernels compiled o
 keep, dm.STREAM_POINTS = dm.STREAM_POINTS, 0
 solve(*scaling.scaled(1.6))
 dm.STREAM_POINTS = keep
-cpu, last, lap = {{}}, [None], tm.Stopwatch.lap
+cpu, sys_, last, lap = {{}}, {{}}, [None, None], tm.Stopwatch.lap
 def timed_lap(self, name):
     r = resource.getrusage(resource.RUSAGE_SELF)
     t = r.ru_utime + r.ru_stime
     cpu[name] = cpu.get(name, 0.0) + t - last[0]
-    last[0] = t
+    sys_[name] = sys_.get(name, 0.0) + r.ru_stime - last[1]
+    last[0], last[1] = t, r.ru_stime
     return lap(self, name)
 tm.Stopwatch.lap = timed_lap
 scene, method = scaling.scaled(math.sqrt({nodes!r} / scaling.BASE_NODES))
 load = os.getloadavg()[0]
 r = resource.getrusage(resource.RUSAGE_SELF)
-last[0] = r.ru_utime + r.ru_stime
+last[0], last[1] = r.ru_utime + r.ru_stime, r.ru_stime
 t0 = time.perf_counter()
 sol = solve(scene, method)
 wall = time.perf_counter() - t0
@@ -71,7 +73,7 @@ r = resource.getrusage(resource.RUSAGE_SELF)
 tip = sol.sifs(error=False)[0]
 print(json.dumps({{"n_nodes": sol.nodes.n, "n_points": sol.disc.points.n, "wall_s": wall,
                   "cpu_s": r.ru_utime + r.ru_stime - (last[0] - sum(cpu.values())),
-                  "stages_s": dict(sol.timings), "cpu_stages_s": cpu, "load": load,
+                  "stages_s": dict(sol.timings), "cpu_stages_s": cpu, "sys_stages_s": sys_, "load": load,
                   "peak_GB": r.ru_maxrss / 1e6, "KI": tip.KI, "KII": tip.KII,
                   "iterations": sol.info.get("iterations")}}))
 """
@@ -207,6 +209,17 @@ def markdown(res: dict, cmd: str) -> str:
                          "range): " + "; ".join(f"{k} {v[0]:.2f} ({v[1]:.2f}-{v[2]:.2f})"
                                                 for k, v in sl.items()) + ".")
             lines.append("")
+        lines.append("System time (page faults of fresh memory, mostly) of the stages that have "
+                     "any, medians, per tree and size: " + "; ".join(
+                         f"{tree} {n:g}: " + ", ".join(
+                             f"{k} {np.median([r['sys_stages_s'].get(k, 0.0) for r in rs]):.2f}"
+                             for k in stages if k != "solve" and max(
+                                 r["sys_stages_s"].get(k, 0.0) for r in rs) >= 0.02)
+                         for tree in ("before", "after")
+                         for n in sorted({r["nodes_asked"] for r in runs})
+                         for rs in [[r for r in runs if r["tree"] == tree and r["nodes_asked"] == n
+                                     and "sys_stages_s" in r]] if rs) + ".")
+        lines.append("")
     several = len({r["nodes_asked"] for r in runs}) > 1
     lines.append(f"Medians{' over all sizes' * several}, before -> after, wall s (CPU s): " + "; ".join(
         f"{k} {med['before'][k]:.2f} -> {med['after'][k]:.2f} "

@@ -65,7 +65,10 @@ ENRICHED_POINT_BYTES = 200.0
 # points and the box sort), the assembly (the points' x and w held, STREAM_POINT_BYTES per point,
 # plus one chunk's shape functions, the chunks' K_c and their sum, STREAM_ASSEMBLY_BYTES per weighted
 # node) and the solve (the points held plus STREAM_NODE_BYTES per weighted node: K, the
-# constrained matrix, A_rho of the Uzawa steps and the auxiliary preconditioner), the weighted
+# constrained matrix, A_rho of the Uzawa steps and the auxiliary preconditioner; the Lagrange
+# saddle point's matrix, a copy of K, is no longer formed for CG (system.linear_system), so the
+# constant, calibrated with it, lies ~1.4 kB per weighted node above that solve: 1.25 instead
+# of 1.46-1.49 GB peak at 96,980 nodes, 10.9 instead of 12.6 GB at 965,572), the weighted
 # nodes being nodes (d_max / 2)^2 sqrt(irregular) as for NODE_BYTES_AMG. Calibration (peak RSS
 # above the interpreter, 5 ms samples, the estimated counts; cracked plate of
 # benchmarks/scaling.py, bc="lagrange", CG): 19,564 nodes (590,440 points, 3 chunks): quadrature

@@ -8,7 +8,7 @@ of its room (both sorted by column), equal columns added, so the entries are sum
 order of the chunks. :func:`close_gaps` then moves the rows together and drops the entries that summed to
 exactly zero (as scipy's sparse sums do). O(sum of the chunks' nnz) work and one allocation,
 against O(nnz log n_chunks) work and ~log2(n_chunks) fresh copies of K for pairwise sums
-(docs/performance.md, chunk_sum section).
+(docs/performance.md, stage_slopes_notes).
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ def output_arrays(size, index):  # pragma: no cover - compiled
     huge pages: on Linux with transparent huge pages on madvise (a common default), the first
     write to fresh memory then waits for the kernel to compact memory into huge pages. For 233
     MB written once in a fresh process: 0.31-0.52 s by numpy against 0.10 s here (4 kB pages;
-    docs/performance.md, chunk_sum section)."""
+    docs/performance.md, stage_slopes_notes)."""
     return np.empty(size, index.dtype), np.empty(size, np.float64)
 
 

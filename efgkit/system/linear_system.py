@@ -6,7 +6,7 @@ copy of K plus the small G blocks. Its iterative solve (the Uzawa steps of
 :func:`efgkit.system.linalg.solve`) needs K and G alone, and its residual is a product by
 blocks, so :class:`LinearSystem` holds the blocks and forms the matrix only if something asks
 for ``A`` (a direct solve, a half model's reduction): at 1e5 nodes of the cracked plate that
-copy was 218 MB and 0.13-0.5 s of the constraints stage (docs/performance.md, saddle_blocks).
+copy was 218 MB and 0.13-0.5 s of the constraints stage (docs/performance.md, stage_slopes_notes).
 """
 
 from __future__ import annotations
