@@ -1,16 +1,24 @@
 """Memory of the machine and the size guard: estimates of a peak allocation checked
 against what is available, refused before anything is allocated (:mod:`efgkit.nodes`,
-:mod:`efgkit.methods.discretize`, :mod:`efgkit.methods.local`)."""
+:mod:`efgkit.methods.discretize`, :mod:`efgkit.methods.local`); and fresh memory for large
+outputs written once (:func:`fresh_array`)."""
 
 from __future__ import annotations
 
 import math
+import mmap
 import os
 
-__all__ = ["ALWAYS_ALLOWED", "FALLBACK_MEMORY", "available_memory", "check_memory"]
+import numpy as np
+
+__all__ = ["ALWAYS_ALLOWED", "FALLBACK_MEMORY", "FRESH_MIN_BYTES", "available_memory",
+           "check_memory", "fresh_array"]
 
 FALLBACK_MEMORY = 8e9  # bytes assumed available when the machine does not say
 ALWAYS_ALLOWED = 2e9  # estimates below this pass whatever the machine reports
+# From this size on (glibc's largest mmap threshold: such arrays are fresh from the kernel,
+# smaller ones often reuse the heap) fresh_array maps its own memory.
+FRESH_MIN_BYTES = 2**25
 
 
 def available_memory() -> tuple[float, str]:
@@ -51,3 +59,31 @@ def check_memory(need: float, what: str, remedy: str) -> None:
         raise ValueError(f"{what}: about {need / 1e9:.3g} GB in all, more than the "
                          f"{have / 1e9:.3g} GB of memory available ({source}). "
                          + remedy.format(factor=factor))
+
+
+def fresh_array(shape, dtype) -> np.ndarray:
+    """An uninitialised array of ``shape`` and ``dtype`` for a large output written once.
+
+    From :data:`FRESH_MIN_BYTES` on it lies in an anonymous memory map of its own instead of
+    numpy's allocation, which advises Linux to back arrays of 4 MB and more with transparent
+    huge pages: with the common ``madvise`` setting the first write to fresh memory then waits
+    whenever the kernel must compact memory into huge pages, while 4 kB pages fault in at a
+    steady rate (the quadrature of 2.9M points and the chunks' sum of the streamed stiffness:
+    docs/performance.md, stage_slopes_notes). Freed with the array.
+
+    Examples
+    --------
+    >>> a = fresh_array((2**21, 2), np.float64)  # 32 MB: a memory map of its own
+    >>> a.shape, a.dtype.name, a.flags.writeable, fresh_array(3, np.int32).shape
+    ((2097152, 2), 'float64', True, (3,))
+    """
+    dtype = np.dtype(dtype)
+    shape = (shape,) if np.ndim(shape) == 0 else tuple(shape)
+    count = math.prod(shape)
+    if count * dtype.itemsize < FRESH_MIN_BYTES:
+        return np.empty(shape, dtype)
+    if hasattr(mmap, "MAP_PRIVATE"):  # private: shared anonymous memory faults in at half the rate
+        buffer = mmap.mmap(-1, count * dtype.itemsize, flags=mmap.MAP_PRIVATE | mmap.MAP_ANONYMOUS)
+    else:  # Windows
+        buffer = mmap.mmap(-1, count * dtype.itemsize)
+    return np.frombuffer(buffer, dtype, count).reshape(shape)

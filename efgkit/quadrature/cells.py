@@ -16,6 +16,7 @@ import math
 import numpy as np
 from scipy.spatial import Delaunay
 
+from ..memory import fresh_array
 from ..problem.geometry import Domain
 from .cut_cells import cut_triangles, pieces, triangle_areas
 from .rules import Points, check_count, check_length, gauss_legendre, triangle_rule
@@ -33,7 +34,9 @@ def _on_triangles(v: np.ndarray, degree: int, ids: np.ndarray):
 
 def _grid_rule(domain: Domain, seg, origin, size, cells, order):
     """Points, weights and owner (index into cells) of the cells (c, 2) of a grid, as two
-    parts [(x, w, owner) of the whole cells, (x, w, owner) of the cut cells' triangles]."""
+    parts (:func:`_fill`): the whole cells ``(corners (f, 2), offsets (q, 2), weights (q,),
+    owner (f,))``, their points written only where they go, and the cut cells' triangles
+    ``(x, w, owner)``."""
     pc, p, q = pieces((seg[:, 0] - origin) / size, (seg[:, 1] - origin) / size)
     key, piece_key = cells @ [1 << 31, 1], pc @ [1 << 31, 1]  # cells of the pieces ...
     srt = np.argsort(key)
@@ -47,15 +50,32 @@ def _grid_rule(domain: Domain, seg, origin, size, cells, order):
     full = rest[domain.contains(corner[rest] + 0.5 * size)]
     xi, wi = gauss_legendre(order)
     r = np.stack(np.meshgrid((xi + 1) / 2, (xi + 1) / 2, indexing="ij"), -1).reshape(-1, 2)
-    x_full = (corner[full, None, :] + size * r).reshape(-1, 2)
-    w_full = np.tile(size**2 * np.outer(wi, wi).ravel() / 4, len(full))
     cut_ids = np.flatnonzero(cut)
     rank = np.cumsum(cut) - 1  # cell index -> index among cut cells
     tri, tc = cut_triangles(p[hit], q[hit], rank[piece_cell], len(cut_ids),
                              lambda u, k: domain.contains(corner[cut_ids[k]] + size * u))
     x_cut, w_cut, o_cut = _on_triangles(corner[cut_ids[tc], None, :] + size * tri,
                                         2 * order - 1, cut_ids[tc])
-    return [(x_full, w_full, np.repeat(full, len(r))), (x_cut, w_cut, o_cut)]
+    return [(corner[full], size * r, size**2 * np.outer(wi, wi).ravel() / 4, full),
+            (x_cut, w_cut, o_cut)]
+
+
+def _count(part) -> int:
+    """Points of a part of :func:`_grid_rule` (or ``(x, w, owner)``)."""
+    return len(part[0]) * len(part[1]) if len(part) == 4 else len(part[0])
+
+
+def _fill(part, x: np.ndarray, w: np.ndarray, owner: np.ndarray) -> None:
+    """Write ``part`` into ``x (m, 2)``, ``w (m,)``, ``owner (m,)``: the whole cells' points
+    as corner + offset, weights and owners per cell broadcast, the rest copied."""
+    if len(part) == 4:
+        corners, offsets, weights, ids = part
+        f, q = len(corners), len(offsets)
+        np.add(corners[:, None, :], offsets, out=x.reshape(f, q, 2))
+        w.reshape(f, q)[:] = weights
+        owner.reshape(f, q)[:] = ids[:, None]
+    else:
+        x[:], w[:], owner[:] = part
 
 
 def _grid(domain: Domain, cell_size: float):
@@ -154,12 +174,17 @@ def cell_points(domain: Domain, cell_size: float, order: int, zones=(),
             for x, w in fans:
                 parts.append((x, w, np.full(len(x), offset)))
                 offset += 1
-        for x, w, owner in _grid_rule(domain, seg, origin, size, sel,
-                                      refined_order if k > 0 else order):
-            owner += offset  # in place: the parts are concatenated once, below
-            parts.append((x, w, owner))
+        for part in _grid_rule(domain, seg, origin, size, sel, refined_order if k > 0 else order):
+            part[-1][...] += offset  # the owners, in place
+            parts.append(part)
         offset += len(sel)
-    x, w, owner = (np.concatenate(v) for v in zip(*parts, strict=True))
+    n = sum(_count(p) for p in parts)  # each part written once, where it goes
+    x, w, owner = fresh_array((n, 2), float), fresh_array(n, float), fresh_array(n, np.int64)
+    start = 0
+    for p in parts:
+        _fill(p, x[start: start + _count(p)], w[start: start + _count(p)],
+              owner[start: start + _count(p)])
+        start += _count(p)
     del parts
     used = np.zeros(offset, bool)
     used[owner] = True

@@ -5,8 +5,8 @@ The output holds, for each row, room for the sum of that row's lengths over all 
 upper bound of the merged row). :func:`add_chunk` merges one chunk's rows into it: a row seen
 for the first time is copied, a row seen before is merged with the chunk's row from the back
 of its room (both sorted by column), equal columns added, so the entries are summed in the
-order of the chunks. :func:`close_gaps` then moves the rows together and drops the entries that summed to
-exactly zero (as scipy's sparse sums do). O(sum of the chunks' nnz) work and one allocation,
+order of the chunks. :func:`close_gaps` then moves the rows together and drops the entries
+that summed to exactly zero (as scipy's sparse sums do). O(sum of the chunks' nnz) work and one allocation,
 against O(nnz log n_chunks) work and ~log2(n_chunks) fresh copies of K for pairwise sums
 (docs/performance.md, stage_slopes_notes).
 """
@@ -18,21 +18,9 @@ from numba import njit
 
 from ..timing import watch_compiles
 
-__all__ = ["add_chunk", "close_gaps", "output_arrays"]
+__all__ = ["add_chunk", "close_gaps"]
 
 watch_compiles()
-
-
-@njit(cache=True, nogil=True)
-def output_arrays(size, index):  # pragma: no cover - compiled
-    """Uninitialised ``(indices (size,) of the dtype of index, values (size,) float64)``.
-
-    Allocated here rather than by numpy, which advises the kernel to back large arrays with
-    huge pages: on Linux with transparent huge pages on madvise (a common default), the first
-    write to fresh memory then waits for the kernel to compact memory into huge pages. For 233
-    MB written once in a fresh process: 0.31-0.52 s by numpy against 0.10 s here (4 kB pages;
-    docs/performance.md, stage_slopes_notes)."""
-    return np.empty(size, index.dtype), np.empty(size, np.float64)
 
 
 @njit(cache=True, nogil=True)

@@ -24,6 +24,7 @@ from scipy.sparse import csr_array
 from ..approx.point_shapes import PointShapes
 from ..approx.shape import Shape
 from ..jit import resolve_backend
+from ..memory import fresh_array
 from .assemble import stiffness
 
 __all__ = ["streamed_stiffness", "chunk_sum", "chunk_stiffness"]
@@ -52,8 +53,9 @@ def chunk_stiffness(sh: Shape, w: np.ndarray, D: np.ndarray,
 def chunk_sum(parts: list[tuple[np.ndarray, csr_array]], n_dofs: int) -> csr_array:
     """K (n_dofs, n_dofs) = the sum of the chunks ``parts`` [(dof, K_c)] of
     :func:`chunk_stiffness` (the list is emptied as they are added), columns sorted, entries
-    that sum to exactly zero left out. The output is allocated once, with room in each row for
-    the sum of its lengths over the chunks, and the chunks are merged into it in their order
+    that sum to exactly zero left out. The output is allocated once
+    (:func:`~efgkit.memory.fresh_array`), with room in each row for the sum of its lengths
+    over the chunks, and the chunks are merged into it in their order
     (:mod:`efgkit.system.chunk_sum_kernels`): O(sum of the chunks' nnz). The room left over,
     the entries two or more chunks share (6 % at 1e5 nodes of the cracked plate), stays
     allocated behind K's arrays.
@@ -65,14 +67,14 @@ def chunk_sum(parts: list[tuple[np.ndarray, csr_array]], n_dofs: int) -> csr_arr
     >>> chunk_sum(parts, 3).toarray().tolist()
     [[1.0, 0.0, 2.0], [0.0, 3.0, 0.0], [2.0, 0.0, 5.0]]
     """
-    from .chunk_sum_kernels import add_chunk, close_gaps, output_arrays
+    from .chunk_sum_kernels import add_chunk, close_gaps
 
     start = np.zeros(n_dofs + 1, np.int64)  # room of each row: its lengths summed over chunks
     for dof, K_c in parts:
         start[dof + 1] += np.diff(K_c.indptr)
     np.cumsum(start, out=start)
     index = np.int32 if max(n_dofs, start[-1]) < 2**31 else np.int64
-    out_idx, out_val = output_arrays(start[-1], np.zeros(1, index))
+    out_idx, out_val = fresh_array(start[-1], index), fresh_array(start[-1], np.float64)
     first, fill = np.zeros(n_dofs, np.int64), np.zeros(n_dofs, np.int64)
     while parts:  # in chunk order, each dropped once added
         dof, K_c = parts.pop(0)
