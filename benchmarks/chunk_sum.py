@@ -2,6 +2,11 @@
 ``efgkit.system.streamed.chunk_sum`` against scipy's sums of the same chunks, in one process.
 
 Run:  PYTHONPATH=. python benchmarks/chunk_sum.py --nodes 2e4 1e5 --rounds 5
+      PYTHONPATH=. python benchmarks/chunk_sum.py --allocation 233 --rounds 6
+
+``--allocation MB``: instead, an array of MB megabytes allocated and written once, by numpy
+and by ``efgkit.memory.fresh_array`` in turns, in this (fresh) process: the first write of
+fresh memory, which numpy's huge-page advice can make wait for the kernel's compaction.
 
 The edge-cracked plate of ``benchmarks/scaling.py`` at about ``--nodes`` nodes is discretised
 once and its chunks' K_c formed once (``chunk_stiffness``, chunks of 2**18 points); then the
@@ -102,11 +107,32 @@ def measure(nodes: float, rounds: int) -> dict:
             "merge_vs_pairwise_rel": float(abs(m - p).max() / abs(p).max())}
 
 
+def allocation(megabytes: float, rounds: int) -> dict:
+    """Seconds to allocate and write ``megabytes`` once, numpy and fresh_array taking turns."""
+    from efgkit.memory import fresh_array
+
+    n = int(megabytes * 2**20) // 8
+    times = {"numpy": [], "fresh_array": []}
+    for _ in range(rounds):
+        for name in times:
+            t0 = time.perf_counter()
+            a = np.empty(n) if name == "numpy" else fresh_array(n, np.float64)
+            a[:] = 1.0
+            times[name].append(round(time.perf_counter() - t0, 4))
+            del a
+    return {"megabytes": megabytes, "seconds": times}
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--nodes", type=float, nargs="+", default=[2e4, 1e5])
     ap.add_argument("--rounds", type=int, default=5)
+    ap.add_argument("--allocation", type=float, metavar="MB")
     args = ap.parse_args(argv)
+    if args.allocation:
+        out = allocation(args.allocation, args.rounds)
+        print(json.dumps(out))
+        return out
     out = [measure(n, args.rounds) for n in args.nodes]
     for r in out:
         print(json.dumps(r))
