@@ -182,9 +182,9 @@ def cell_points(domain: Domain, cell_size: float, order: int, zones=(),
     x, w, owner = fresh_array((n, 2), float), fresh_array(n, float), fresh_array(n, np.int64)
     start = 0
     for p in parts:
-        _fill(p, x[start: start + _count(p)], w[start: start + _count(p)],
-              owner[start: start + _count(p)])
-        start += _count(p)
+        end = start + _count(p)
+        _fill(p, x[start:end], w[start:end], owner[start:end])
+        start = end
     del parts
     used = np.zeros(offset, bool)
     used[owner] = True
