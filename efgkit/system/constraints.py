@@ -160,7 +160,8 @@ def lagrange(K, f, bc: Dirichlet, node_x: np.ndarray, check: bool = True) -> Lin
     ``check=False`` allows rigid-body modes (dynamics, where the mass holds them).
 
     ``[[K, G^T], [G, 0]] [c; lambda] = [f; q]`` with ``G_kI = int N_k phi_I ds``
-    and ``q_k = int N_k ubar ds`` for each hat N_k and prescribed component.
+    and ``q_k = int N_k ubar ds`` for each hat N_k and prescribed component. The system
+    holds the blocks ``(K, G)``; the matrix is formed only if asked for (:class:`LinearSystem`).
     """
     Gpt = _component_operator(bc.shape, bc.fixed)  # (n_fixed_rows, n_dofs)
     if check:
