@@ -159,6 +159,20 @@ def slopes(runs: list, tree: str, stages: list) -> dict:
     return out
 
 
+def system_times(runs: list, stages: list) -> str:
+    """The median system time of each stage (but the solve) that reaches 0.02 s in some run,
+    per tree and size, as text."""
+    parts = []
+    for tree in ("before", "after"):
+        for n in sorted({r["nodes_asked"] for r in runs}):
+            rs = [r for r in runs if r["tree"] == tree and r["nodes_asked"] == n]
+            shown = [k for k in stages if k != "solve"
+                     and max(r["sys_stages_s"].get(k, 0.0) for r in rs) >= 0.02]
+            parts.append(f"{tree} {n:g}: " + ", ".join(
+                f"{k} {np.median([r['sys_stages_s'].get(k, 0.0) for r in rs]):.2f}" for k in shown))
+    return "; ".join(parts)
+
+
 def markdown(res: dict, cmd: str) -> str:
     runs = res["runs"]
     stages = list(dict.fromkeys(k for r in runs for k in r["stages_s"] if k != "total"))
@@ -202,7 +216,8 @@ def markdown(res: dict, cmd: str) -> str:
     ratios = [ours(a, "cpu_stages_s") / ours(b, "cpu_stages_s")
               for b, a in zip([r for r in runs if r["tree"] == "before"],
                               [r for r in runs if r["tree"] == "after"], strict=False)]
-    if len({r["nodes_asked"] for r in runs}) > 1:  # the slopes between the sizes
+    several = len({r["nodes_asked"] for r in runs}) > 1
+    if several:  # the slopes between the sizes
         for tree in ("before", "after"):
             sl = slopes(runs, tree, stages)
             lines.append(f"Slopes of {tree} (log-log, time against nodes, the medians; the rounds' "
@@ -210,17 +225,8 @@ def markdown(res: dict, cmd: str) -> str:
                                                 for k, v in sl.items()) + ".")
             lines.append("")
         lines.append("System time (page faults of fresh memory, mostly) of the stages that have "
-                     "any, medians, per tree and size: " + "; ".join(
-                         f"{tree} {n:g}: " + ", ".join(
-                             f"{k} {np.median([r['sys_stages_s'].get(k, 0.0) for r in rs]):.2f}"
-                             for k in stages if k != "solve" and max(
-                                 r["sys_stages_s"].get(k, 0.0) for r in rs) >= 0.02)
-                         for tree in ("before", "after")
-                         for n in sorted({r["nodes_asked"] for r in runs})
-                         for rs in [[r for r in runs if r["tree"] == tree and r["nodes_asked"] == n
-                                     and "sys_stages_s" in r]] if rs) + ".")
+                     f"any, medians, per tree and size: {system_times(runs, stages)}.")
         lines.append("")
-    several = len({r["nodes_asked"] for r in runs}) > 1
     lines.append(f"Medians{' over all sizes' * several}, before -> after, wall s (CPU s): " + "; ".join(
         f"{k} {med['before'][k]:.2f} -> {med['after'][k]:.2f} "
         f"({med['before']['cpu'][k]:.2f} -> {med['after']['cpu'][k]:.2f})" for k in stages)
