@@ -24,11 +24,11 @@ import argparse
 import json
 import math
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 from scipy.sparse import csr_array
+from turns import take_turns
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "benchmarks"))
@@ -85,19 +85,11 @@ def measure(nodes: float, rounds: int) -> dict:
              for s, e in ps.bounds()]
     n = ps.n_dofs
     chunk_sum(list(parts[:1]), n)  # compiled or loaded from the cache
-    times = {"merge": [], "pairwise": [], "running": []}
-    sums = {}
-    for _ in range(rounds):
-        for name in times:
-            t0 = time.perf_counter()
-            if name == "merge":
-                K = chunk_sum(list(parts), n)
-            else:
-                K = (pairwise if name == "pairwise" else running)(on_all_dofs(parts, n))
-            times[name].append(time.perf_counter() - t0)
-            sums[name] = K
-            del K
-    m, p, r = sums["merge"], sums["pairwise"], sums["running"]
+    sums = {"merge": lambda: chunk_sum(list(parts), n),
+            "pairwise": lambda: pairwise(on_all_dofs(parts, n)),
+            "running": lambda: running(on_all_dofs(parts, n))}
+    times = take_turns(sums, rounds)
+    m, p, r = (sums[k]() for k in ("merge", "pairwise", "running"))  # once more, to compare
     same = np.array_equal(m.indptr, r.indptr) and np.array_equal(m.indices, r.indices)
     return {"nodes": disc.nodes.n, "points": ps.n_points, "chunks": len(parts),
             "chunk_nnz": int(sum(K.nnz for _, K in parts)), "nnz": int(m.nnz),
@@ -112,15 +104,13 @@ def allocation(megabytes: float, rounds: int) -> dict:
     from efgkit.memory import fresh_array
 
     n = int(megabytes * 2**20) // 8
-    times = {"numpy": [], "fresh_array": []}
-    for _ in range(rounds):
-        for name in times:
-            t0 = time.perf_counter()
-            a = np.empty(n) if name == "numpy" else fresh_array(n, np.float64)
-            a[:] = 1.0
-            times[name].append(round(time.perf_counter() - t0, 4))
-            del a
-    return {"megabytes": megabytes, "seconds": times}
+
+    def written(a):
+        a[:] = 1.0
+
+    times = take_turns({"numpy": lambda: written(np.empty(n)),
+                        "fresh_array": lambda: written(fresh_array(n, np.float64))}, rounds)
+    return {"megabytes": megabytes, "seconds": {k: [round(s, 4) for s in v] for k, v in times.items()}}
 
 
 def main(argv=None):

@@ -125,12 +125,9 @@ def against(rev: str, rounds: int, m: int = 80) -> dict:
     outs = {k: fn() for k, fn in run.items()}  # warm-up (compiles) and the identity check
     same = {k: bool(all(np.array_equal(a, b) for a, b in zip(o, outs["cKDTree"], strict=True)))
             for k, o in outs.items()}
-    times = {k: [] for k in run}
-    for _ in range(rounds):
-        for k, fn in run.items():
-            t0 = time.perf_counter()
-            fn()
-            times[k].append(time.perf_counter() - t0)
+    from turns import take_turns
+
+    times = take_turns(run, rounds)
     t = {k: np.array(v) for k, v in times.items()}
     q = lambda a: [float(v) for v in np.quantile(a, [0.25, 0.5, 0.75])]  # noqa: E731
     return {"m": m, "N": nodes.n, "rounds": rounds, "same_graph": same, "times": times,
@@ -210,12 +207,9 @@ def measure(m: int, repeat: int, before) -> dict:
                      "extra": int(len(np.setdiff1d(codes[0], codes[1])))}
             continue
         same[name] = bool(np.array_equal(out[0], ref[0]) and np.array_equal(out[1], ref[1]))
-    times = {k: [] for k in run}
-    for _ in range(repeat):
-        for name, fn in run.items():
-            t0 = time.perf_counter()
-            fn()
-            times[name].append(time.perf_counter() - t0)
+    from turns import take_turns
+
+    times = take_turns(run, repeat)
     grid = {k: BoxGrid.build(nodes, kind=k) for k in ("uniform", "nonuniform")}
     return {"m": m, "dA": 1.0 / m, "N": nodes.n, "N_seed": SEED[m][0],
             "seed_s": dict(zip(("direct", "uniform box", "nonuniform box"), SEED[m][1:], strict=True)),

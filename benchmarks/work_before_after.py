@@ -24,7 +24,6 @@ import shutil
 import statistics
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
@@ -112,17 +111,13 @@ def compare(problem, setting, wp, efgkit, base, sc_old, FEM, solve_fem, rounds, 
     for _ in range(3):
         for f in runs.values():
             f()
-    t = {k: [] for k in runs}
-    for _ in range(rounds):
-        for k, f in runs.items():
-            t0 = time.perf_counter()
-            f()
-            t[k].append(time.perf_counter() - t0)
+    from turns import median_interval, take_turns
+
+    t = take_turns(runs, rounds)
 
     def ratio(x, y):
         r = np.array(t[x]) / np.array(t[y])
-        boot = np.median(rng.choice(r, size=(2000, len(r))), axis=1)
-        lo, hi = np.quantile(boot, [0.05, 0.95])
+        lo, hi = median_interval(r, rng)
         return f"{np.median(r):.3f} ({lo:.3f} - {hi:.3f})"
 
     print(f"  median s: new {statistics.median(t['new']):.4f}, base {statistics.median(t['base']):.4f}, "

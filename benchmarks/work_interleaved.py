@@ -26,7 +26,6 @@ mesh finer than any timed one, as in the sweep):
 from __future__ import annotations
 
 import statistics
-import time
 
 import numpy as np
 
@@ -84,12 +83,9 @@ def _runner(wp, sc, problem, kind, setting):
 
 
 def _median_time(fn, k):
-    times = []
-    for _ in range(k):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times)
+    from turns import take_turns
+
+    return statistics.median(take_turns({"fn": fn}, k)["fn"])
 
 
 def deciding(wp, sc, problem, kind, ref) -> dict:
@@ -133,16 +129,12 @@ def deciding(wp, sc, problem, kind, ref) -> dict:
 
 def interleave(fa, fb, rounds: int) -> dict:
     """Time ``fa`` and ``fb`` alternately; the ratio fa / fb of each round and its statistics."""
-    ta, tb = [], []
-    for _ in range(rounds):
-        for fn, t in ((fa, ta), (fb, tb)):
-            t0 = time.perf_counter()
-            fn()
-            t.append(time.perf_counter() - t0)
+    from turns import median_interval, take_turns
+
+    t = take_turns({"a": fa, "b": fb}, rounds)
+    ta, tb = t["a"], t["b"]
     ratio = np.array(ta) / np.array(tb)
-    rng = np.random.default_rng(0)
-    boot = np.median(rng.choice(ratio, size=(2000, len(ratio)), replace=True), axis=1)
-    lo, hi = np.quantile(boot, [0.05, 0.95])
+    lo, hi = median_interval(ratio, np.random.default_rng(0))
     q1, q3 = np.quantile(ratio, [0.25, 0.75])
     med = float(np.median(ratio))
     return {"rounds": rounds, "efg_s": ta, "fem_s": tb, "ratios": ratio.tolist(),
