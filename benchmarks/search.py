@@ -42,6 +42,14 @@ from efgkit.nodes import NodeCloud
 from efgkit.search import BoxGrid, neighbour_lists
 
 ROOT = Path(__file__).resolve().parents[1]
+
+
+def _turns():
+    """benchmarks/turns.py's take_turns (this module is also loaded from its path by the tests)."""
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    from turns import take_turns
+
+    return take_turns
 # seed 000 Table 1: dA (mm) -> (N, direct Gd, uniform box Gu, nonuniform box Gn) in s
 SEED = {10: (2411, 0.31, 0.35, 0.29), 20: (9321, 1.94, 0.75, 0.38),
         30: (20731, 11.82, 1.66, 0.56), 40: (36641, 42.00, 3.64, 0.87),
@@ -125,9 +133,7 @@ def against(rev: str, rounds: int, m: int = 80) -> dict:
     outs = {k: fn() for k, fn in run.items()}  # warm-up (compiles) and the identity check
     same = {k: bool(all(np.array_equal(a, b) for a, b in zip(o, outs["cKDTree"], strict=True)))
             for k, o in outs.items()}
-    from turns import take_turns
-
-    times = take_turns(run, rounds)
+    times = _turns()(run, rounds)
     t = {k: np.array(v) for k, v in times.items()}
     q = lambda a: [float(v) for v in np.quantile(a, [0.25, 0.5, 0.75])]  # noqa: E731
     return {"m": m, "N": nodes.n, "rounds": rounds, "same_graph": same, "times": times,
@@ -207,9 +213,7 @@ def measure(m: int, repeat: int, before) -> dict:
                      "extra": int(len(np.setdiff1d(codes[0], codes[1])))}
             continue
         same[name] = bool(np.array_equal(out[0], ref[0]) and np.array_equal(out[1], ref[1]))
-    from turns import take_turns
-
-    times = take_turns(run, repeat)
+    times = _turns()(run, repeat)
     grid = {k: BoxGrid.build(nodes, kind=k) for k in ("uniform", "nonuniform")}
     return {"m": m, "dA": 1.0 / m, "N": nodes.n, "N_seed": SEED[m][0],
             "seed_s": dict(zip(("direct", "uniform box", "nonuniform box"), SEED[m][1:], strict=True)),
