@@ -311,11 +311,13 @@ def solve(system: LinearSystem, solver: str = "auto", near_nullspace=None,
     if bnorm == 0.0:
         info["residual"] = 0.0
         return np.zeros(n), info
+    res = None  # CG's residual, measured already
     if use_amg:
-        z = _iterative_with_fallback(system, solver, near_nullspace, rtol, auxiliary, stiffness, bnorm, info)
+        z, res = _iterative_with_fallback(system, solver, near_nullspace, rtol, auxiliary, stiffness,
+                                          bnorm, info)
     else:
         z = _direct(system.A, b, system.spd, dense)
-    _check_residual(system, z, bnorm, rtol, info)
+    _check_residual(system, z, bnorm, rtol, info, res)
     return z, info
 
 
@@ -333,9 +335,10 @@ def _check_arguments(system, solver, rtol) -> bool:
 
 
 def _iterative_with_fallback(system, solver, near_nullspace, rtol, auxiliary, stiffness, bnorm, info):
-    """CG's (Uzawa steps') z (n,), or under "auto" SuperLU's if CG missed ``rtol`` or its error bound
-    exceeds ``ERROR_FACTOR * rtol``; CG statistics (and fallback) go into ``info``. SolverError for an
-    untrusted answer under "amg" (a missed residual is left to :func:`_check_residual`)."""
+    """(z (n,), its relative residual): CG's (Uzawa steps') z, or under "auto" SuperLU's (residual
+    None: not measured yet) if CG missed ``rtol`` or its error bound exceeds ``ERROR_FACTOR * rtol``;
+    CG statistics (and fallback) go into ``info``. SolverError for an untrusted answer under "amg" (a
+    missed residual is left to :func:`_check_residual`)."""
     iterate = _iterative if system.spd else _augmented_lagrangian
     with single_blas_thread():
         z, extra = iterate(system, near_nullspace, rtol, auxiliary, stiffness)
@@ -347,16 +350,16 @@ def _iterative_with_fallback(system, solver, near_nullspace, rtol, auxiliary, st
     elif not extra["error_bound"] <= ERROR_FACTOR * rtol:
         reason = _untrusted(extra, res, rtol)
     else:
-        return z
+        return z, res
     if solver == "auto":
         info.update(solver="direct", fallback=reason)
-        return _direct(system.A, system.b, system.spd)
+        return _direct(system.A, system.b, system.spd), None
     if res <= rtol:
         raise SolverError(
             f"solver='amg': {reason}. Remedy: solver='direct' (or 'auto', which falls back to it), "
             "or a better-conditioned system: the default penalty factor (1e3 E/h) or bc='lagrange' "
             "or 'variational' instead of a large penalty")
-    return z
+    return z, res
 
 
 def _untrusted(extra, res, rtol) -> str:
@@ -373,12 +376,13 @@ def _untrusted(extra, res, rtol) -> str:
             "for a small residual to mean a right answer")
 
 
-def _check_residual(system, z, bnorm, rtol, info):
-    """Stores the relative residual ``||A z - b|| / ||b||`` of z (n,) in ``info``; returns None.
-    SolverError for NaN/inf in z or a residual above ``rtol``."""
+def _check_residual(system, z, bnorm, rtol, info, res=None):
+    """Stores the relative residual ``||A z - b|| / ||b||`` of z (n,) in ``info`` (``res``
+    when it was measured already); returns None. SolverError for NaN/inf in z or a residual
+    above ``rtol``."""
     if not np.all(np.isfinite(z)):
         raise SolverError("the solve produced NaN or inf: the system is singular or overflowed")
-    res = float(np.linalg.norm(system.product(z) - system.b)) / bnorm
+    res = float(np.linalg.norm(system.product(z) - system.b)) / bnorm if res is None else res
     info["residual"] = res
     if not np.isfinite(res):  # A z overflowed: loads or stiffness beyond float range
         raise SolverError(f"the residual of the solve is {res} (A z or b overflowed): the loads or "
