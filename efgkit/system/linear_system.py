@@ -78,8 +78,8 @@ class LinearSystem:
 
     def product(self, z: np.ndarray) -> np.ndarray:
         """``A z`` (n,), by blocks for a saddle point held as its blocks."""
-        if self.matrix is not None or "A" in self.__dict__:
-            return self.A @ z
+        if self.blocks is None:
+            return self.matrix @ z
         K, G = self.blocks
         c, lam = z[: self.n_coeffs], z[self.n_coeffs:]
         return np.concatenate([K @ c + G.T @ lam, G @ c])
