@@ -364,3 +364,45 @@ def test_tip_fan_exit_near_a_corner_keeps_the_cell_area():
 
     x, w = tip_cell_rule(np.zeros(2), 1.0, np.array([0.5, 0.5]), np.array([[0.499995, 0.5]]), 8)
     assert abs(w.sum() - 1.0) < 1e-14
+
+
+# --- the rule held per cell ------------------------------------------------------------------
+
+
+def _cracked_rule():
+    """A rule of 103k points (above COMPILED_MIN: the compiled writes) with a zone, a hole,
+    a crack with its tip fans and cut cells: every kind of segment, two tensor rules."""
+    from efgkit import Crack
+    from efgkit.quadrature.cells import cell_rule
+
+    dom = Domain.rectangle(0, 0, 2, 1, holes=[Loop.circle([1.4, 0.5], 0.2)])
+    return dom, cell_rule(dom, 1 / 60, 3, zones=(Zone((0.8, 0.5), 0.1, 1 / 200),), refined_order=4,
+                     cracks=[Crack([[0.0, 0.5], [0.8, 0.5]], (False, True))])
+
+
+def test_cell_rule_compiled_writes_equal_numpy_bit_for_bit(monkeypatch):
+    import efgkit.quadrature.cell_rule as cr
+
+    dom, rule = _cracked_rule()
+    assert rule.n >= cr.COMPILED_MIN and (rule.rule < 0).any() and len(rule.q) == 2
+    compiled = rule.points()
+    monkeypatch.setattr(cr, "COMPILED_MIN", 10**9)
+    plain = rule.points()
+    for a, b in [(compiled.x, plain.x), (compiled.w, plain.w), (compiled.owner, plain.owner)]:
+        assert a.dtype == b.dtype and np.array_equal(a, b)
+    # the rule's points are cell_points' (numbered over the cells with material)
+    assert abs(plain.w.sum() - dom.area) < 1e-12 * dom.area and plain.w.min() > 0
+    assert np.array_equal(np.unique(plain.owner), np.arange(plain.owner.max() + 1))
+
+
+def test_cell_rule_sorted_by_is_the_stable_sort_of_its_points(monkeypatch):
+    import efgkit.quadrature.cell_rule as cr
+
+    _, rule = _cracked_rule()
+    key = lambda x: np.floor(7 * x[:, 0]).astype(np.int64)  # many ties: stability shows
+    expect = rule.points().sorted_by(key)
+    for block in (cr.KEY_BLOCK, 10_007):  # one block, and many with a partial last one
+        monkeypatch.setattr(cr, "KEY_BLOCK", block)
+        got = rule.sorted_by(key)
+        assert all(np.array_equal(getattr(got, a), getattr(expect, a)) for a in ("x", "w", "owner"))
+    assert not np.array_equal(expect.owner, rule.points().owner)  # the key did reorder

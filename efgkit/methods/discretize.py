@@ -24,7 +24,8 @@ from ..approx.tip_functions import TipGeometry
 from ..nodes import NodeCloud, check_memory, generate_nodes, support_radii
 from ..problem.geometry import Domain, Edge
 from ..problem.scene import Scene
-from ..quadrature.cells import cell_points, triangle_points
+from ..quadrature.cell_rule import CellRule
+from ..quadrature.cells import cell_points, cell_rule, triangle_points
 from ..quadrature.rules import Points
 from ..search import BoxGrid, find_neighbours
 from ..system.images import image_group, image_positions, part_weights, tie
@@ -212,10 +213,10 @@ def discretize(scene: Scene, method: EFG, chunked: bool | str = False) -> Discre
         nodes = interpolating_supports(nodes, interpolate)
     sw.lap("nodes")
     if method.quadrature == "cells":
-        points = cell_points(scene.domain, method.cell_size or method.spacing, method.order,
-                             zones=method.zones + method.tip_cell_zones(scene),
-                             refined_order=method.refined_order, cracks=scene.cracks,
-                             tip_rays=shadow_rays(scene, nodes), tip_order=method.tip_order)
+        points = cell_rule(scene.domain, method.cell_size or method.spacing, method.order,
+                           zones=method.zones + method.tip_cell_zones(scene),
+                           refined_order=method.refined_order, cracks=scene.cracks,
+                           tip_rays=shadow_rays(scene, nodes), tip_order=method.tip_order)
     else:
         points = triangle_points(scene.domain, nodes.x, method.order)
     sw.lap("quadrature")
@@ -226,14 +227,13 @@ def discretize(scene: Scene, method: EFG, chunked: bool | str = False) -> Discre
     return Discretization(scene, method, nodes, points, shape, approx, sw.timings)
 
 
-def _shape_functions(points: Points, approx: Approximation, sw: Stopwatch,
+def _shape_functions(points: Points | CellRule, approx: Approximation, sw: Stopwatch,
                      later: bool = False) -> tuple[Points, Shape | PointShapes]:
-    """The points sorted by box (locality for the kernels), then their neighbours and shape
-    functions (stages "search" and "shape"), or with ``later`` a :class:`PointShapes` that
-    forms them a chunk at a time when asked."""
-    order = np.argsort(approx.boxes.box_of(points.x), kind="stable")
-    points = Points(points.x[order], points.w[order],
-                    None if points.owner is None else points.owner[order])
+    """The points sorted by box (locality for the kernels; a cell rule's points are written
+    in that order once), then their neighbours and shape functions (stages "search" and
+    "shape"), or with ``later`` a :class:`PointShapes` that forms them a chunk at a time
+    when asked."""
+    points = points.sorted_by(approx.boxes.box_of)
     if later:
         return points, PointShapes(approx, points.x)
     nb = find_neighbours(points.x, approx.nodes, approx.boxes)

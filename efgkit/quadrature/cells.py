@@ -16,13 +16,13 @@ import math
 import numpy as np
 from scipy.spatial import Delaunay
 
-from ..memory import fresh_array
 from ..problem.geometry import Domain
+from .cell_rule import CellRule
 from .cut_cells import cut_triangles, pieces, triangle_areas
 from .rules import Points, check_count, check_length, gauss_legendre, triangle_rule
 from .tip_cells import tip_cells
 
-__all__ = ["cell_points", "triangle_points"]
+__all__ = ["cell_points", "cell_rule", "triangle_points"]
 
 
 def _on_triangles(v: np.ndarray, degree: int, ids: np.ndarray):
@@ -34,8 +34,8 @@ def _on_triangles(v: np.ndarray, degree: int, ids: np.ndarray):
 
 def _grid_rule(domain: Domain, seg, origin, size, cells, order):
     """Points, weights and owner (index into cells) of the cells (c, 2) of a grid, as two
-    parts (:func:`_fill`): the whole cells ``(corners (f, 2), offsets (q, 2), weights (q,),
-    owner (f,))``, their points written only where they go, and the cut cells' triangles
+    parts of a :class:`~efgkit.quadrature.cell_rule.CellRule`: the whole cells ``(corners
+    (f, 2), offsets (q, 2), weights (q,), owner (f,))`` and the cut cells' triangles
     ``(x, w, owner)``."""
     pc, p, q = pieces((seg[:, 0] - origin) / size, (seg[:, 1] - origin) / size)
     key, piece_key = cells @ [1 << 31, 1], pc @ [1 << 31, 1]  # cells of the pieces ...
@@ -58,24 +58,6 @@ def _grid_rule(domain: Domain, seg, origin, size, cells, order):
                                         2 * order - 1, cut_ids[tc])
     return [(corner[full], size * r, size**2 * np.outer(wi, wi).ravel() / 4, full),
             (x_cut, w_cut, o_cut)]
-
-
-def _count(part) -> int:
-    """Points of a part of :func:`_grid_rule` (or ``(x, w, owner)``)."""
-    return len(part[0]) * len(part[1]) if len(part) == 4 else len(part[0])
-
-
-def _fill(part, x: np.ndarray, w: np.ndarray, owner: np.ndarray) -> None:
-    """Write ``part`` into ``x (m, 2)``, ``w (m,)``, ``owner (m,)``: the whole cells' points
-    as corner + offset, weights and owners per cell broadcast, the rest copied."""
-    if len(part) == 4:
-        corners, offsets, weights, ids = part
-        f, q = len(corners), len(offsets)
-        np.add(corners[:, None, :], offsets, out=x.reshape(f, q, 2))
-        w.reshape(f, q)[:] = weights
-        owner.reshape(f, q)[:] = ids[:, None]
-    else:
-        x[:], w[:], owner[:] = part
 
 
 def _grid(domain: Domain, cell_size: float):
@@ -151,6 +133,16 @@ def cell_points(domain: Domain, cell_size: float, order: int, zones=(),
     >>> bool(abs(pts.w.sum() - dom.area) < 1e-12 * dom.area), bool(pts.w.min() > 0)
     (True, True)
     """
+    return cell_rule(domain, cell_size, order, zones, refined_order, cracks, tip_rays,
+                     tip_order).points()
+
+
+def cell_rule(domain: Domain, cell_size: float, order: int, zones=(),
+              refined_order: int | None = None, cracks=(), tip_rays=None,
+              tip_order: int | None = None) -> CellRule:
+    """The rule of :func:`cell_points` (same arguments) held per cell: its points are
+    written when asked for, in their own order or in that of a key (the box order of the
+    search: :meth:`~efgkit.quadrature.cell_rule.CellRule.sorted_by`)."""
     if not isinstance(domain, Domain):
         raise TypeError(f"domain must be a Domain, got {type(domain).__name__}")
     check_length("cell_size", cell_size)
@@ -178,20 +170,7 @@ def cell_points(domain: Domain, cell_size: float, order: int, zones=(),
             part[-1][...] += offset  # the owners, in place
             parts.append(part)
         offset += len(sel)
-    n = sum(_count(p) for p in parts)  # each part written once, where it goes
-    x, w, owner = fresh_array((n, 2), float), fresh_array(n, float), fresh_array(n, np.int64)
-    start = 0
-    for p in parts:
-        end = start + _count(p)
-        _fill(p, x[start:end], w[start:end], owner[start:end])
-        start = end
-    del parts
-    used = np.zeros(offset, bool)
-    used[owner] = True
-    # cells numbered over those with material, in place ("clip": unbuffered; the owners are
-    # valid by construction, and each entry is read before it is written)
-    np.take(np.cumsum(used) - 1, owner, out=owner, mode="clip")
-    return Points(x, w, owner)
+    return CellRule.from_parts(parts, offset)
 
 
 def triangle_points(domain: Domain, nodes, order: int) -> Points:

@@ -77,6 +77,18 @@ class Points:
         return cls(np.concatenate([p.x for p in points]), np.concatenate([p.w for p in points]),
                    join("owner"), join("normal"))
 
+    def sorted_by(self, key) -> Points:
+        """These points in the stable order of ``key(x) (n,)``, every attribute alike.
+
+        Examples
+        --------
+        >>> Points(np.array([[2., 0], [1, 0], [2, 1]]), np.arange(3.)).sorted_by(lambda x: x[:, 0]).w
+        array([1., 0., 2.])
+        """
+        order = np.argsort(key(self.x), kind="stable")
+        return Points(self.x[order], self.w[order], *(None if v is None else v[order]
+                                                      for v in (self.owner, self.normal)))
+
     def __add__(self, other: Points) -> Points:
         if not isinstance(other, Points):
             return NotImplemented
