@@ -52,7 +52,7 @@ from ..methods.discretize import Discretization, approximation, discretize, shad
 from ..methods.efg import EFG
 from ..nodes import NodeCloud, generate_nodes
 from ..problem.scene import Scene
-from ..quadrature.cells import cell_points, triangle_points
+from ..quadrature.cells import cell_rule, triangle_points
 from ..quadrature.rules import Points
 from ..search import BoxGrid, Neighbours, find_neighbours
 from ..system.assemble import stiffness
@@ -184,16 +184,14 @@ def _points(scene: Scene, m: EFG, nodes: NodeCloud, boxes: BoxGrid):
     """The domain points of :func:`~efgkit.methods.discretize.discretize`, in its order (by
     search box, stably), and their box indices (n_points,)."""
     if m.quadrature == "cells":
-        pts = cell_points(scene.domain, m.cell_size or m.spacing, m.order,
-                          zones=m.zones + m.tip_cell_zones(scene), refined_order=m.refined_order,
-                          cracks=scene.cracks, tip_rays=shadow_rays(scene, nodes),
-                          tip_order=m.tip_order)
+        pts = cell_rule(scene.domain, m.cell_size or m.spacing, m.order,
+                        zones=m.zones + m.tip_cell_zones(scene), refined_order=m.refined_order,
+                        cracks=scene.cracks, tip_rays=shadow_rays(scene, nodes),
+                        tip_order=m.tip_order)
     else:
         pts = triangle_points(scene.domain, nodes.x, m.order)
-    box = boxes.box_of(pts.x)
-    order = np.argsort(box, kind="stable")
-    return Points(pts.x[order], pts.w[order], None if pts.owner is None else pts.owner[order]), \
-        box[order]
+    pts = pts.sorted_by(boxes.box_of)  # as discretize sorts them
+    return pts, boxes.box_of(pts.x)
 
 
 def _match(a: Points, box_a: np.ndarray, b: Points, box_b: np.ndarray):
