@@ -399,7 +399,9 @@ def test_cell_rule_sorted_by_is_the_stable_sort_of_its_points(monkeypatch):
     import efgkit.quadrature.cell_rule as cr
 
     _, rule = _cracked_rule()
-    key = lambda x: np.floor(7 * x[:, 0]).astype(np.int64)  # many ties: stability shows
+    def key(x):  # many ties: stability shows
+        return np.floor(7 * x[:, 0]).astype(np.int64)
+
     expect = rule.points().sorted_by(key)
     for block in (cr.KEY_BLOCK, 10_007):  # one block, and many with a partial last one
         monkeypatch.setattr(cr, "KEY_BLOCK", block)

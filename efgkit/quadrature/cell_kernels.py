@@ -12,7 +12,6 @@ same bits.
 
 from __future__ import annotations
 
-import numpy as np
 from numba import njit, prange
 
 from ..timing import watch_compiles

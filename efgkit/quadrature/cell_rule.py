@@ -99,7 +99,7 @@ class CellRule:
         q = np.array([len(o) for o in offsets], np.int64)
         off_table = np.zeros((len(q), max(q, default=0), 2))
         w_table = np.zeros((len(q), max(q, default=0)))
-        for r, (o, wt) in enumerate(zip(offsets, weights)):
+        for r, (o, wt) in enumerate(zip(offsets, weights, strict=True)):
             off_table[r, : q[r]], w_table[r, : q[r]] = o, wt
         corner = np.concatenate([c for c, _ in whole]) if whole else np.zeros((0, 2))
         cell = np.concatenate([i for _, i in whole]) if whole else np.zeros(0, np.int64)
@@ -121,9 +121,9 @@ class CellRule:
         return Points(*self._write(None, 0, self.n))
 
     def sorted_by(self, key) -> Points:
-        """The points in the stable order of ``key(x (m, 2)) -> (m,)``, as
-        ``points().sorted_by(key)`` gives them, but each written once (large rules: the keys
-        taken a block of :data:`KEY_BLOCK` points at a time)."""
+        """The points in the stable order of ``key(x (m, 2)) -> (m,)``, a key of each point's
+        position alone, as ``points().sorted_by(key)`` gives them, but each written once
+        (large rules: the keys taken a block of :data:`KEY_BLOCK` points at a time)."""
         if self.n < COMPILED_MIN:
             return self.points().sorted_by(key)
         keys = np.concatenate([key(self._write(None, s, min(s + KEY_BLOCK, self.n), x_only=True)[0])
