@@ -2,9 +2,9 @@
 
 Most points of :func:`efgkit.quadrature.cells.cell_points` lie in whole cells: a corner
 plus the offsets of the cell's tensor Gauss rule. :class:`CellRule` keeps them so (a corner
-and an owner per cell, the offsets and weights once per rule: 5 MB for the 2.9M points of
-the cracked plate at 97k nodes) beside the points listed one by one (cut-cell triangles,
-tip fans). :meth:`CellRule.sorted_by` writes the points in the stable order of a key of
+and an owner per cell, the offsets and weights once per rule) beside the points listed one
+by one (cut-cell triangles, tip fans): 3.5 MB for the 2.9M points of the cracked plate at
+97k nodes. :meth:`CellRule.sorted_by` writes the points in the stable order of a key of
 their positions, the box order of the search, without first writing all of them in cell
 order and then gathering them (93 MB written twice at 97k nodes, most of it the page faults
 of fresh memory: docs/performance.md, stage_slopes_notes).
