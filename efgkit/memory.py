@@ -1,10 +1,11 @@
 """Memory of the machine and the size guard: estimates of a peak allocation checked
 against what is available, refused before anything is allocated (:mod:`efgkit.nodes`,
 :mod:`efgkit.methods.discretize`, :mod:`efgkit.methods.local`); and fresh memory for large
-outputs written once (:func:`fresh_array`)."""
+outputs written once (:func:`fresh_array`, :func:`small_pages`)."""
 
 from __future__ import annotations
 
+import contextlib
 import math
 import mmap
 import os
@@ -12,7 +13,7 @@ import os
 import numpy as np
 
 __all__ = ["ALWAYS_ALLOWED", "FALLBACK_MEMORY", "FRESH_MIN_BYTES", "available_memory",
-           "check_memory", "fresh_array"]
+           "check_memory", "fresh_array", "small_pages"]
 
 FALLBACK_MEMORY = 8e9  # bytes assumed available when the machine does not say
 ALWAYS_ALLOWED = 2e9  # estimates below this pass whatever the machine reports
@@ -87,3 +88,38 @@ def fresh_array(shape, dtype) -> np.ndarray:
     else:  # Windows
         buffer = mmap.mmap(-1, count * dtype.itemsize)
     return np.frombuffer(buffer, dtype, count).reshape(shape)
+
+
+@contextlib.contextmanager
+def small_pages():
+    """Within the block numpy does not advise Linux to back its new arrays with transparent
+    huge pages; its setting before is restored after, and left alone if the user chose it
+    (the ``NUMPY_MADVISE_HUGEPAGE`` environment variable) or numpy cannot switch it.
+
+    For loops that write much fresh memory once, such as the streamed stiffness: every chunk's
+    K_c is kept until the chunks' sum, so the heap grows by all of them. Under the common
+    ``defrag=madvise`` setting a first write to advised memory waits while the kernel compacts
+    memory into 2 MB pages: on the cracked plate at 97k nodes, 40-45k faults cost 0.33-0.59 s
+    of system time in the 12 K_c, against 104-107k faults of 4 kB pages in 0.23-0.25 s within
+    this block, with the same user time (docs/performance.md, stage_slopes_notes).
+
+    Examples
+    --------
+    >>> with small_pages():
+    ...     a = np.ones(2**20)  # 8 MB, not advised
+    """
+    try:
+        from numpy._core.multiarray import _set_madvise_hugepage
+    except ImportError:  # numpy < 2
+        try:
+            from numpy.core.multiarray import _set_madvise_hugepage
+        except ImportError:
+            _set_madvise_hugepage = None
+    if _set_madvise_hugepage is None or "NUMPY_MADVISE_HUGEPAGE" in os.environ:
+        yield
+        return
+    before = _set_madvise_hugepage(False)
+    try:
+        yield
+    finally:
+        _set_madvise_hugepage(before)

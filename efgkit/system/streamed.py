@@ -24,7 +24,7 @@ from scipy.sparse import csr_array
 from ..approx.point_shapes import PointShapes
 from ..approx.shape import Shape
 from ..jit import resolve_backend
-from ..memory import fresh_array
+from ..memory import fresh_array, small_pages
 from .assemble import stiffness
 
 __all__ = ["streamed_stiffness", "chunk_sum", "chunk_stiffness"]
@@ -119,13 +119,14 @@ def streamed_stiffness(shapes: PointShapes, w: np.ndarray, D: np.ndarray, clock=
     backend = resolve_backend("auto", shapes.n_points)
 
     parts = []
-    for s, e in shapes.bounds():
-        sh = shapes.chunk(s, e, derivatives=True, clock=clock)
-        parts.append(chunk_stiffness(sh, w[s:e], D, backend))
-        del sh  # the chunk's shape functions go before the next chunk's
-        if clock is not None:
-            clock.lap("stiffness")
-    K = chunk_sum(parts, shapes.n_dofs)
+    with small_pages():  # the chunks' K_c and their sum: fresh memory written once
+        for s, e in shapes.bounds():
+            sh = shapes.chunk(s, e, derivatives=True, clock=clock)
+            parts.append(chunk_stiffness(sh, w[s:e], D, backend))
+            del sh  # the chunk's shape functions go before the next chunk's
+            if clock is not None:
+                clock.lap("stiffness")
+        K = chunk_sum(parts, shapes.n_dofs)
     if clock is not None:
         clock.lap("stiffness")
     return K
