@@ -376,8 +376,9 @@ def _cracked_rule():
     from efgkit.quadrature.cells import cell_rule
 
     dom = Domain.rectangle(0, 0, 2, 1, holes=[Loop.circle([1.4, 0.5], 0.2)])
-    return dom, cell_rule(dom, 1 / 60, 3, zones=(Zone((0.8, 0.5), 0.1, 1 / 200),), refined_order=4,
+    rule = cell_rule(dom, 1 / 60, 3, zones=(Zone((0.8, 0.5), 0.1, 1 / 200),), refined_order=4,
                      cracks=[Crack([[0.0, 0.5], [0.8, 0.5]], (False, True))])
+    return dom, rule
 
 
 def test_cell_rule_compiled_writes_equal_numpy_bit_for_bit(monkeypatch):
@@ -399,6 +400,7 @@ def test_cell_rule_sorted_by_is_the_stable_sort_of_its_points(monkeypatch):
     import efgkit.quadrature.cell_rule as cr
 
     _, rule = _cracked_rule()
+
     def key(x):  # many ties: stability shows
         return np.floor(7 * x[:, 0]).astype(np.int64)
 
