@@ -27,8 +27,8 @@ from efgkit import MLPG
 from efgkit.gallery import sent
 from efgkit.methods.local import DEFAULT_MLPG_PENALTY, discretize_local, local_system
 from efgkit.static import mlpg_auxiliary
-from efgkit.system.constraints import LinearSystem
 from efgkit.system.krylov import solve_unsymmetric
+from efgkit.system.linear_system import LinearSystem
 
 
 def rss() -> float:

@@ -14,8 +14,8 @@ from mlpg_assembly import scene
 
 from efgkit import MLPG
 from efgkit.methods.local import DEFAULT_MLPG_PENALTY, discretize_local, local_system
-from efgkit.system.constraints import LinearSystem
 from efgkit.system.krylov import solve_unsymmetric
+from efgkit.system.linear_system import LinearSystem
 
 
 def main(n_side: int = 317, solver: str = "gmres") -> dict:

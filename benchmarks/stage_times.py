@@ -146,10 +146,10 @@ def slopes(runs: list, tree: str, stages: list) -> dict:
     sizes = sorted({r["nodes_asked"] for r in rs})
     lo, hi = ([r for r in rs if r["nodes_asked"] == n] for n in (sizes[0], sizes[-1]))
     out = {}
+    dn = np.log(np.median([r["n_nodes"] for r in hi]) / np.median([r["n_nodes"] for r in lo]))
     for k in stages + ["wall"]:
         def t(r, k=k):
             return r["wall_s"] if k == "wall" else r["stages_s"].get(k, 0.0)
-        dn = np.log(np.median([r["n_nodes"] for r in hi]) / np.median([r["n_nodes"] for r in lo]))
         if min(t(r) for r in lo + hi) <= 0:
             continue
         per_round = [np.log(t(b) / t(a)) / np.log(b["n_nodes"] / a["n_nodes"])

@@ -6,20 +6,17 @@ outputs written once (:func:`fresh_array`, :func:`small_pages`)."""
 from __future__ import annotations
 
 import contextlib
+import functools
 import math
-import mmap
 import os
 
 import numpy as np
 
-__all__ = ["ALWAYS_ALLOWED", "FALLBACK_MEMORY", "FRESH_MIN_BYTES", "available_memory",
-           "check_memory", "fresh_array", "small_pages"]
+__all__ = ["ALWAYS_ALLOWED", "FALLBACK_MEMORY", "available_memory", "check_memory", "fresh_array",
+           "small_pages"]
 
 FALLBACK_MEMORY = 8e9  # bytes assumed available when the machine does not say
 ALWAYS_ALLOWED = 2e9  # estimates below this pass whatever the machine reports
-# From this size on (glibc's largest mmap threshold: such arrays are fresh from the kernel,
-# smaller ones often reuse the heap) fresh_array maps its own memory.
-FRESH_MIN_BYTES = 2**25
 
 
 def available_memory() -> tuple[float, str]:
@@ -63,31 +60,21 @@ def check_memory(need: float, what: str, remedy: str) -> None:
 
 
 def fresh_array(shape, dtype) -> np.ndarray:
-    """An uninitialised array of ``shape`` and ``dtype`` for a large output written once.
-
-    From :data:`FRESH_MIN_BYTES` on it lies in an anonymous memory map of its own instead of
-    numpy's allocation, which advises Linux to back arrays of 4 MB and more with transparent
-    huge pages: with the common ``madvise`` setting the first write to fresh memory then waits
-    whenever the kernel must compact memory into huge pages, while 4 kB pages fault in at a
-    steady rate (the quadrature of 2.9M points and the chunks' sum of the streamed stiffness:
-    docs/performance.md, stage_slopes_notes). Freed with the array.
+    """An uninitialised array of ``shape`` and ``dtype`` for a large output written once,
+    allocated within :func:`small_pages`: numpy advises Linux to back arrays of 4 MB and more
+    with transparent huge pages, and with the common ``madvise`` setting the first write to
+    fresh memory then waits whenever the kernel must compact memory into huge pages, while
+    4 kB pages fault in at a steady rate (the quadrature's 2.9M points and the chunks' sum of
+    the streamed stiffness: docs/performance.md, stage_slopes_notes).
 
     Examples
     --------
-    >>> a = fresh_array((2**21, 2), np.float64)  # 32 MB: a memory map of its own
+    >>> a = fresh_array((2**21, 2), np.float64)
     >>> a.shape, a.dtype.name, a.flags.writeable, fresh_array(3, np.int32).shape
     ((2097152, 2), 'float64', True, (3,))
     """
-    dtype = np.dtype(dtype)
-    shape = (shape,) if np.ndim(shape) == 0 else tuple(shape)
-    count = math.prod(shape)
-    if count * dtype.itemsize < FRESH_MIN_BYTES:
+    with small_pages():
         return np.empty(shape, dtype)
-    if hasattr(mmap, "MAP_PRIVATE"):  # private: shared anonymous memory faults in at half the rate
-        buffer = mmap.mmap(-1, count * dtype.itemsize, flags=mmap.MAP_PRIVATE | mmap.MAP_ANONYMOUS)
-    else:  # Windows
-        buffer = mmap.mmap(-1, count * dtype.itemsize)
-    return np.frombuffer(buffer, dtype, count).reshape(shape)
 
 
 @contextlib.contextmanager
@@ -108,18 +95,25 @@ def small_pages():
     >>> with small_pages():
     ...     a = np.ones(2**20)  # 8 MB, not advised
     """
+    switch = _advice_switch()
+    if switch is None or "NUMPY_MADVISE_HUGEPAGE" in os.environ:
+        yield
+        return
+    before = switch(False)
+    try:
+        yield
+    finally:
+        switch(before)
+
+
+@functools.cache
+def _advice_switch():
+    """numpy's switch of its huge-page advice (``flag -> previous flag``), or None."""
     try:
         from numpy._core.multiarray import _set_madvise_hugepage
     except ImportError:  # numpy < 2
         try:
             from numpy.core.multiarray import _set_madvise_hugepage
         except ImportError:
-            _set_madvise_hugepage = None
-    if _set_madvise_hugepage is None or "NUMPY_MADVISE_HUGEPAGE" in os.environ:
-        yield
-        return
-    before = _set_madvise_hugepage(False)
-    try:
-        yield
-    finally:
-        _set_madvise_hugepage(before)
+            return None
+    return _set_madvise_hugepage

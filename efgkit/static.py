@@ -89,7 +89,7 @@ def large_system_bc(method: EFG, disc: Discretization, bc_was_auto: bool) -> EFG
 def constrained_system(disc: Discretization, K, f: np.ndarray, method: EFG | None = None):
     """``K c = f`` with the scene's essential conditions imposed by ``method.bc`` (default
     ``disc.method``, as given by :meth:`EFG.for_scene`: ``bc`` not "auto"): the
-    :class:`~efgkit.system.constraints.LinearSystem` to solve."""
+    :class:`~efgkit.system.linear_system.LinearSystem` to solve."""
     m, mat = method or disc.method, disc.scene.material
     h = m.spacing
     check = getattr(disc, "images", None) is None  # half/quarter model: ImageTie.reduce checks
@@ -241,8 +241,9 @@ def solve_mlpg(scene: Scene, method: MLPG, disc: Discretization | None = None) -
     0.002
     """
     from .methods.local import DEFAULT_MLPG_PENALTY, discretize_local, local_system
-    from .system.constraints import LinearSystem, check_rigid_modes
+    from .system.constraints import check_rigid_modes
     from .system.krylov import solve_unsymmetric
+    from .system.linear_system import LinearSystem
 
     t_all = time.perf_counter()
     sw = Stopwatch()  # laps: stages that add up to the wall time, compilation apart

@@ -49,7 +49,7 @@ def test_solver_auto_switches_to_cg_above_the_threshold(monkeypatch):
     import efgkit.methods.size as size
     import efgkit.static as static
     from efgkit.system import linalg
-    from efgkit.system.constraints import LinearSystem
+    from efgkit.system.linear_system import LinearSystem
 
     assert static.AUTO_AMG_THRESHOLD == size.AUTO_AMG_THRESHOLD == AUTO_AMG_THRESHOLD
     n = 60

@@ -13,9 +13,9 @@ from efgkit.methods.local import discretize_local
 from efgkit.static import mlpg_auxiliary
 from efgkit.system import krylov
 from efgkit.system.auxiliary import AuxiliarySpace, p1_stiffness
-from efgkit.system.constraints import LinearSystem
 from efgkit.system.krylov_mlpg import CHECKERBOARD_MIN, checkerboard_quotient
 from efgkit.system.linalg import SolverError
+from efgkit.system.linear_system import LinearSystem
 
 
 def plate() -> Scene:

@@ -13,9 +13,10 @@ from efgkit.methods.boundary import essential_conditions, loads
 from efgkit.system import linalg
 from efgkit.system.assemble import stiffness
 from efgkit.system.auxiliary import chebyshev_inverse, p1_stiffness
-from efgkit.system.constraints import LinearSystem, penalty, rigid_body_modes
+from efgkit.system.constraints import penalty, rigid_body_modes
 from efgkit.system.linalg import ERROR_FACTOR, SolverError
 from efgkit.system.linalg import solve as linear_solve
+from efgkit.system.linear_system import LinearSystem
 
 
 def _plate(hole=False):

@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 
 from efgkit import MLPG, Domain, Elastic, Scene, Support, Traction, solve
-from efgkit.system.constraints import LinearSystem
 from efgkit.system.krylov import solve_unsymmetric
+from efgkit.system.linear_system import LinearSystem
 
 
 def _tension():

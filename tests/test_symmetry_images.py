@@ -14,8 +14,9 @@ from efgkit.gallery import cct, sent_seed001
 from efgkit.methods.discretize import discretize
 from efgkit.methods.efg import Rosette
 from efgkit.nodes import generate_nodes
-from efgkit.system.constraints import LinearSystem, RigidBodyModeError
+from efgkit.system.constraints import RigidBodyModeError
 from efgkit.system.images import image_group, image_positions, tie
+from efgkit.system.linear_system import LinearSystem
 
 RADII = {"cct": (0.2, 0.3, 0.4), "SENT": (1.0, 2.0, 3.0)}
 

@@ -146,8 +146,8 @@ def quad_model(n: int, sc: Scene | None = None) -> dict:
     from skfem.models.elasticity import linear_elasticity
 
     from efgkit.fem.model import _rigid_modes
-    from efgkit.system.constraints import LinearSystem
     from efgkit.system.linalg import solve as lsolve
+    from efgkit.system.linear_system import LinearSystem
 
     sc = sc or scene()
     t0 = time.perf_counter()

@@ -29,7 +29,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..problem.scene import Scene, evaluate_component, evaluate_vector
-from ..system.constraints import LinearSystem, RigidBodyModeError
+from ..system.constraints import RigidBodyModeError
+from ..system.linear_system import LinearSystem
 from .dofs import dofs_where, face_side
 from .mesh import TriMesh, check_sizes, mesh_scene
 from .solution import FEMSolution

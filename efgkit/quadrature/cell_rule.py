@@ -118,7 +118,7 @@ class CellRule:
 
     def points(self) -> Points:
         """All points in their own order: segment by segment, cell by cell."""
-        return Points(*self._write(None, 0, self.n))
+        return Points(*self._write(None, 0, self.n)) if self.n >= COMPILED_MIN else self._points_numpy()
 
     def sorted_by(self, key) -> Points:
         """The points in the stable order of ``key(x (m, 2)) -> (m,)``, a key of each point's
@@ -132,22 +132,23 @@ class CellRule:
 
     def _write(self, order, base: int, end: int, x_only: bool = False):
         """``x, w, owner`` of the points ``order`` (or ``base .. end - 1``), each written once
-        into fresh arrays (``w, owner`` None with ``x_only``): compiled for large rules, in
-        numpy (all points in their own order only) for small ones."""
+        into fresh arrays by the compiled loop (``w, owner`` None with ``x_only``)."""
+        from .cell_kernels import write_points
+
         m = end - base if order is None else len(order)
         x = fresh_array((m, 2), float)
         w = None if x_only else fresh_array(m, float)
         owner = None if x_only else fresh_array(m, np.int64)
-        if self.n >= COMPILED_MIN:
-            from .cell_kernels import write_points
+        unused = np.zeros(0, np.int64)
+        write_points(unused if order is None else order, base, self.start, self.first, self.rule,
+                     self.q, self.corner, self.cell, self.offsets, self.weights, self.listed.x,
+                     self.listed.w, self.listed.owner, x, np.zeros(0) if x_only else w,
+                     unused if x_only else owner, x_only)
+        return x, w, owner
 
-            unused = np.zeros(0, np.int64)
-            write_points(unused if order is None else order, base, self.start, self.first,
-                         self.rule, self.q, self.corner, self.cell, self.offsets, self.weights,
-                         self.listed.x, self.listed.w, self.listed.owner, x,
-                         np.zeros(0) if x_only else w, unused if x_only else owner, x_only)
-            return x, w, owner
-        assert order is None and (base, end) == (0, self.n), "small rules: all points in order"
+    def _points_numpy(self) -> Points:
+        """:meth:`points` in numpy (small rules: no compilation), segment by segment."""
+        x, w, owner = np.empty((self.n, 2)), np.empty(self.n), np.empty(self.n, np.int64)
         for k in range(len(self.first)):
             out, r, f = slice(self.start[k], self.start[k + 1]), self.rule[k], self.first[k]
             if r < 0:
@@ -159,4 +160,4 @@ class CellRule:
             np.add(self.corner[cells, None, :], self.offsets[r, :q], out=x[out].reshape(-1, q, 2))
             w[out].reshape(-1, q)[:] = self.weights[r, :q]
             owner[out].reshape(-1, q)[:] = self.cell[cells, None]
-        return x, w, owner
+        return Points(x, w, owner)

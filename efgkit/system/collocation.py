@@ -22,7 +22,8 @@ import numpy as np
 from scipy.sparse import csr_array, diags_array, issparse
 from scipy.sparse.linalg import splu
 
-from .constraints import LinearSystem, check_rigid_modes
+from .constraints import check_rigid_modes
+from .linear_system import LinearSystem
 
 __all__ = ["SingularRowsError", "collocation", "SINGULAR_PIVOT"]
 

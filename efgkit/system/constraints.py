@@ -31,7 +31,7 @@ from scipy.sparse import coo_array, csr_array, diags_array, vstack
 from ..approx.shape import Shape
 from .linear_system import LinearSystem
 
-__all__ = ["Dirichlet", "LinearSystem", "RigidBodyModeError", "penalty", "lagrange", "rigid_body_modes",
+__all__ = ["Dirichlet", "RigidBodyModeError", "penalty", "lagrange", "rigid_body_modes",
            "modified_variational", "eliminate", "check_rigid_modes", "boundary_traction_term"]
 
 

@@ -32,7 +32,8 @@ from scipy.sparse import block_diag, coo_array, csr_array, identity
 from scipy.spatial import cKDTree
 
 from ..problem.symmetry import reflection
-from .constraints import LinearSystem, RigidBodyModeError
+from .constraints import RigidBodyModeError
+from .linear_system import LinearSystem
 
 __all__ = ["BRANCH_PARITY", "ImageTie", "TiedSystem", "extra_action", "image_group", "image_positions",
            "part_weights", "tie"]

@@ -16,9 +16,9 @@ import numpy as np
 from scipy.sparse import csc_array, csr_array, diags_array
 from scipy.sparse.linalg import LinearOperator, bicgstab, gmres, spilu
 
-from .constraints import LinearSystem
 from .linalg import SolverError
 from .linalg import solve as linalg_solve
+from .linear_system import LinearSystem
 
 __all__ = ["solve_unsymmetric", "AUTO_KRYLOV_THRESHOLD", "KRYLOV_SOLVERS"]
 

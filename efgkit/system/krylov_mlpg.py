@@ -50,8 +50,9 @@ from .auxiliary import (
     smoothed_aggregation,
     vcycle,
 )
-from .constraints import LinearSystem, rigid_body_modes
+from .constraints import rigid_body_modes
 from .linalg import SolverError
+from .linear_system import LinearSystem
 
 __all__ = ["CHECKERBOARD_MIN", "CYCLE", "MAX_ITERATIONS", "STAGNATION", "amg_gmres", "checkerboard_quotient",
            "surrogate_preconditioner"]

@@ -29,7 +29,7 @@ from scipy.sparse.linalg import LinearOperator, MatrixRankWarning, splu
 
 from .blas_threads import one_blas_thread, single_blas_thread
 from .conjugate_gradient import energy_error_bound, preconditioned_cg, ritz_range
-from .constraints import LinearSystem
+from .linear_system import LinearSystem
 
 __all__ = ["solve", "SolverError", "AUTO_AMG_THRESHOLD", "ERROR_FACTOR"]
 
@@ -297,7 +297,7 @@ def solve(system: LinearSystem, solver: str = "auto", near_nullspace=None,
     Examples
     --------
     >>> from scipy.sparse import csr_array
-    >>> from efgkit.system.constraints import LinearSystem
+    >>> from efgkit.system.linear_system import LinearSystem
     >>> z, info = solve(LinearSystem(csr_array(np.diag([2.0, 4.0])), np.ones(2), True, 2))
     >>> z.tolist(), info["solver"]
     ([0.5, 0.25], 'direct')

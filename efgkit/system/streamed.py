@@ -76,10 +76,12 @@ def chunk_sum(parts: list[tuple[np.ndarray, csr_array]], n_dofs: int) -> csr_arr
     index = np.int32 if max(n_dofs, start[-1]) < 2**31 else np.int64
     out_idx, out_val = fresh_array(start[-1], index), fresh_array(start[-1], np.float64)
     first, fill = np.zeros(n_dofs, np.int64), np.zeros(n_dofs, np.int64)
-    while parts:  # in chunk order, each dropped once added
-        dof, K_c = parts.pop(0)
+    for k in range(len(parts)):  # in chunk order, each dropped once added
+        dof, K_c = parts[k]
+        parts[k] = None
         add_chunk(start, first, fill, out_idx, out_val, dof, K_c.indptr, K_c.indices, K_c.data)
         del dof, K_c
+    parts.clear()
     indptr = close_gaps(start.astype(index), first, fill, out_idx, out_val)
     return csr_array((out_val[: indptr[-1]], out_idx[: indptr[-1]], indptr),
                      shape=(n_dofs, n_dofs))
